@@ -1,0 +1,230 @@
+"""The block assembly as data: blocks, supports, contacts, loads — and its matrices.
+
+Conventions (used everywhere in lamodel, and in the output CSVs):
+
+* Each contact k joins block ``a`` and block ``b`` (either may be a support, not both).
+  Its unit normal ``n`` points from a to b, its tangent is ``t = (-n_y, n_x)``.
+* The contact force ``N n + V t`` (applied at the contact centre) and the couple ``M`` act on
+  block a; their opposites act on block b. ``N <= 0`` is compression.
+* Block displacements ``u = (u_x, u_y, theta)`` are taken at the block centroid.
+* The relative displacement of b with respect to a at the contact centre gives the contact
+  strains ``q = (opening, slip, relative rotation)``.
+* The vector of contact forces is ordered as in eq. (3): ``s_f = (N_1..N_nc, V_1..V_nc,
+  M_1..M_nc)``; block forces are ordered ``(f_x, f_y, m)`` block after block.
+
+With these conventions the equilibrium of eq. (1)-(2) reads ``A s_f + f0 + alpha fbar = 0``
+and compatibility reads ``q = -A^T u``, so that virtual work holds:
+``alpha fbar^T u + f0^T u = s_f^T q``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import InputError
+
+#: Yield rows of eq. (4), in the order used for the flow multipliers xi (4 per contact):
+#: sliding forward, sliding backward, hinging on one edge, hinging on the other.
+YIELD_ROWS = ("slide+", "slide-", "hinge+", "hinge-")
+
+
+@dataclass
+class Structure:
+    """A planar assembly of rigid blocks with Coulomb contacts (seed eq. 1-4)."""
+
+    name: str
+    blocks: list            # ids of the movable blocks
+    centroid: np.ndarray    # (nb, 2)
+    dead: np.ndarray        # (nb, 2) constant force f0 at the centroid
+    live: np.ndarray        # (nb, 2) base live force fbar at the centroid (times alpha)
+    supports: list          # ids of the fixed bodies
+    contacts: list          # ids of the contacts
+    block_a: list           # per contact: id of block a (a block or a support)
+    block_b: list           # per contact: id of block b (a block or a support)
+    centre: np.ndarray      # (nc, 2)
+    normal: np.ndarray      # (nc, 2) unit normal from a to b
+    d: np.ndarray           # (nc,) half-length: largest eccentricity of N
+    mu: np.ndarray          # (nc,) friction coefficient
+    polygons: dict = field(default_factory=dict)  # id -> (k, 2) vertices, for pictures
+
+    def __post_init__(self):
+        self.blocks = [str(b) for b in self.blocks]
+        self.supports = [str(b) for b in self.supports]
+        self.contacts = [str(c) for c in self.contacts]
+        self.block_a = [str(b) for b in self.block_a]
+        self.block_b = [str(b) for b in self.block_b]
+        f = lambda x, shape: np.asarray(x, dtype=float).reshape(shape)  # noqa: E731
+        nb, nc = len(self.blocks), len(self.contacts)
+        self.centroid = f(self.centroid, (nb, 2))
+        self.dead = f(self.dead, (nb, 2))
+        self.live = f(self.live, (nb, 2))
+        self.centre = f(self.centre, (nc, 2))
+        self.normal = f(self.normal, (nc, 2))
+        self.d = f(self.d, (nc,))
+        self.mu = f(self.mu, (nc,))
+        self.polygons = {str(k): np.asarray(v, dtype=float) for k, v in self.polygons.items()}
+
+    # ----------------------------------------------------------------- sizes and lookups
+    @property
+    def n_blocks(self) -> int:
+        return len(self.blocks)
+
+    @property
+    def n_contacts(self) -> int:
+        return len(self.contacts)
+
+    @property
+    def tangent(self) -> np.ndarray:
+        return np.column_stack([-self.normal[:, 1], self.normal[:, 0]])
+
+    def block_index(self) -> dict:
+        return {b: j for j, b in enumerate(self.blocks)}
+
+    def contact_blocks(self):
+        """Indices of blocks a and b per contact, -1 for a support."""
+        idx = self.block_index()
+        ia = np.array([idx.get(b, -1) for b in self.block_a], dtype=int)
+        ib = np.array([idx.get(b, -1) for b in self.block_b], dtype=int)
+        return ia, ib
+
+    def size(self) -> float:
+        """A length that measures the whole structure (diagonal of its bounding box)."""
+        pts = [self.centroid, self.centre]
+        pts += [v for v in self.polygons.values()]
+        p = np.vstack([x for x in pts if len(x)])
+        return float(np.hypot(*(p.max(axis=0) - p.min(axis=0)))) or 1.0
+
+    # ----------------------------------------------------------------------- checking
+    def validate(self) -> "Structure":
+        """Raise InputError on anything that cannot describe a block assembly."""
+        where = f"structure '{self.name}'"
+        if self.n_blocks == 0:
+            raise InputError(f"{where}: the set of blocks is empty; expected at least one movable block")
+        if self.n_contacts == 0:
+            raise InputError(f"{where}: there are no contacts; expected blocks resting on supports or on each other")
+        for kind, ids in (("block", self.blocks), ("support", self.supports), ("contact", self.contacts)):
+            seen = set()
+            for i in ids:
+                if i in seen:
+                    raise InputError(f"{where}: {kind} '{i}' is declared twice; expected unique ids")
+                seen.add(i)
+        both = set(self.blocks) & set(self.supports)
+        if both:
+            raise InputError(f"{where}: '{sorted(both)[0]}' is both a block and a support; expected one or the other")
+        for name, arr in (("x/y", self.centroid), ("dead", self.dead), ("live", self.live),
+                          ("centre", self.centre), ("normal", self.normal), ("d", self.d), ("mu", self.mu)):
+            bad = ~np.isfinite(arr)
+            if bad.any():
+                i = np.argwhere(bad)[0][0]
+                owner = self.blocks[i] if arr.shape[0] == self.n_blocks and name in ("x/y", "dead", "live") else self.contacts[i]
+                raise InputError(f"{where}: {name} of '{owner}' is not a finite number; expected finite values")
+        known = set(self.blocks) | set(self.supports)
+        for k, a, b in zip(self.contacts, self.block_a, self.block_b):
+            for end, x in (("block_a", a), ("block_b", b)):
+                if x not in known:
+                    raise InputError(f"{where}: contact '{k}' names unknown {end} '{x}'; expected a declared block or support")
+            if a == b:
+                raise InputError(f"{where}: contact '{k}' joins '{a}' to itself; expected two different bodies")
+            if a in self.supports and b in self.supports:
+                raise InputError(f"{where}: contact '{k}' joins two supports '{a}' and '{b}'; expected at least one movable block")
+        norm = np.hypot(self.normal[:, 0], self.normal[:, 1])
+        bad = np.flatnonzero(np.abs(norm - 1.0) > 1e-6)
+        if bad.size:
+            k = bad[0]
+            raise InputError(f"{where}: normal of contact '{self.contacts[k]}' has length {norm[k]:.6g}; expected a unit vector")
+        bad = np.flatnonzero(self.d <= 0)
+        if bad.size:
+            k = bad[0]
+            raise InputError(f"{where}: d of contact '{self.contacts[k]}' is {self.d[k]:.6g}; expected a half-length > 0")
+        bad = np.flatnonzero(self.mu < 0)
+        if bad.size:
+            k = bad[0]
+            raise InputError(f"{where}: mu of contact '{self.contacts[k]}' is {self.mu[k]:.6g}; expected a friction coefficient >= 0")
+        ia, ib = self.contact_blocks()
+        touched = np.zeros(self.n_blocks, dtype=bool)
+        touched[ia[ia >= 0]] = True
+        touched[ib[ib >= 0]] = True
+        if not touched.all():
+            j = int(np.flatnonzero(~touched)[0])
+            raise InputError(f"{where}: block '{self.blocks[j]}' touches nothing (a free body); expected every block to have a contact")
+        if not np.any(self.live):
+            raise InputError(f"{where}: every live load is zero; expected a live load for alpha to multiply")
+        return self
+
+    # ----------------------------------------------------------------------- matrices
+    def equilibrium_matrix(self) -> sp.csr_matrix:
+        """A of eq. (2): block resultants (3 nb) produced by the contact forces (3 nc).
+
+        Column k (N_k), nc+k (V_k), 2nc+k (M_k). Forces act on block a and, reversed, on b.
+        """
+        nb, nc = self.n_blocks, self.n_contacts
+        ia, ib = self.contact_blocks()
+        n, t, c = self.normal, self.tangent, self.centre
+        rows, cols, vals = [], [], []
+
+        def put(blk, sign):
+            on = blk >= 0
+            k = np.flatnonzero(on)
+            j = blk[on]
+            g = self.centroid[j]
+            r = c[k] - g  # lever arm from the centroid to the contact centre
+            for col0, vec in ((0, n), (nc, t)):
+                f = vec[k]
+                rows.extend([3 * j, 3 * j + 1, 3 * j + 2])
+                cols.extend([col0 + k] * 3)
+                vals.extend([sign * f[:, 0], sign * f[:, 1], sign * (r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0])])
+            rows.append(3 * j + 2)
+            cols.append(2 * nc + k)
+            vals.append(sign * np.ones(k.size))
+
+        put(ia, 1.0)
+        put(ib, -1.0)
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(3 * nb, 3 * nc))
+
+    def load_vectors(self):
+        """(f0, fbar) of eq. (2), each of length 3 nb, forces at the centroids (no couple)."""
+        nb = self.n_blocks
+        f0 = np.zeros(3 * nb)
+        fb = np.zeros(3 * nb)
+        f0[0::3], f0[1::3] = self.dead[:, 0], self.dead[:, 1]
+        fb[0::3], fb[1::3] = self.live[:, 0], self.live[:, 1]
+        return f0, fb
+
+    def yield_matrix(self) -> sp.csr_matrix:
+        """Rows of eq. (4), ``Y s_f <= 0``, stacked by kind (4 nc x 3 nc).
+
+        slide+: mu N + V, slide-: mu N - V, hinge+: d N - M, hinge-: d N + M.
+        """
+        nc = self.n_contacts
+        I = sp.identity(nc, format="csr")
+        Mu, D, Z = sp.diags(self.mu), sp.diags(self.d), sp.csr_matrix((nc, nc))
+        return sp.bmat([[Mu, I, Z], [Mu, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
+
+    def flow_matrix(self) -> sp.csr_matrix:
+        """Gradients of the fictitious cohesive yield rows (eq. 5's system), 4 nc x 3 nc.
+
+        The cohesive law replaces mu N by the cohesion -mu N of the real forces, so sliding
+        rows carry no normal component (no dilatancy); hinge rows are those of eq. (4).
+        Contact strains follow the flow rule ``q = G^T xi``.
+        """
+        nc = self.n_contacts
+        I = sp.identity(nc, format="csr")
+        D, Z = sp.diags(self.d), sp.csr_matrix((nc, nc))
+        return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
+
+    def xi_bounds(self, factor: float = 100.0) -> np.ndarray:
+        """Upper bounds on the 4 nc flow multipliers, from the data.
+
+        A mechanism normalised by ``fbar^T u = 1`` moves a block carrying the smallest live
+        load by at most about 1/|fbar_min|; slips are lengths of that size, hinge rotations
+        that size over d. ``factor`` leaves ample room. Without such a bound, multipliers of
+        order 1e7 on contacts with N ~ 0 turn 1e-8 violations into a fake, low alpha.
+        """
+        mag = np.hypot(self.live[:, 0], self.live[:, 1])
+        U = 1.0 / mag[mag > 0].min()
+        slide = np.full(self.n_contacts, factor * U)
+        hinge = factor * U / self.d
+        return np.concatenate([slide, slide, hinge, hinge])
