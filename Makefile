@@ -1,0 +1,35 @@
+# Set-up and checks on a fresh Debian machine (run as root, or with sudo for apt-get).
+# Every target is idempotent and quick when nothing is missing.
+VENV   := .venv
+PY     := $(VENV)/bin/python
+DEBS   := coinor-libipopt-dev liblapack-dev libblas-dev libmumps-seq-dev pkg-config
+STAMP  := $(VENV)/.installed
+DEMO   := $(firstword $(wildcard instances/portal.dat) instances/wall33.dat)
+
+.PHONY: setup demo test debs clean
+
+setup: debs $(STAMP)
+
+# Debian's Ipopt 3.11 (a library: cyipopt compiles against it) and the LAPACK/MUMPS it links.
+debs:
+	@missing=""; for p in $(DEBS); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
+	fi
+
+$(STAMP): setup.cfg pyproject.toml
+	@test -x $(PY) || python3 -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[test]'
+	@touch $(STAMP)
+
+demo: setup
+	$(PY) scripts/solve.py $(DEMO)
+
+test: setup
+	$(PY) -m pytest -q
+
+clean:
+	rm -rf $(VENV) results *.egg-info

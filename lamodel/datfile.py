@@ -1,0 +1,192 @@
+"""Pyomo .dat files of block assemblies: read into a Structure, write from one.
+
+The file is plain Pyomo data for :func:`lamodel.model.create_abstract_model`::
+
+    set BLOCKS := b1 b2 ;
+    set SUPPORTS := ground ;
+    set CONTACTS := c1 c2 c3 ;
+    param: x y dead_x dead_y live_x live_y :=
+      b1 1.0 0.875 0.0 -0.5 0.5 0.0
+      ... ;
+    param: block_a block_b cx cy nx ny d mu :=
+      c1 ground b1 1.0 0.0 0.0 1.0 1.0 0.65
+      ... ;
+    param: VERTICES: vx vy :=      # optional: block outlines, for pictures only
+      b1 1 0.0 0.0
+      ... ;
+
+so ``create_abstract_model().create_instance('wall33.dat')`` and :func:`read_dat` see the
+same data. :func:`read_dat` adds the checks a user needs: every parameter present exactly
+once, contacts naming known bodies, unit normals, d > 0, mu >= 0, finite numbers.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+from collections import defaultdict
+
+import numpy as np
+
+from .errors import InputError
+from .model import BLOCK_PARAMS, CONTACT_PARAMS
+from .structure import Structure
+
+
+def _fmt(v: float) -> str:
+    return repr(float(v))
+
+
+def write_dat(structure: Structure, path) -> str:
+    """Write the structure as a Pyomo .dat file (atomically: a temporary file, then rename)."""
+    s = structure
+    lines = [f"# lamodel instance '{s.name}': {s.n_blocks} blocks, {s.n_contacts} contacts",
+             "# conventions: lamodel/structure.py (n from block_a to block_b; N <= 0 is compression)",
+             "set BLOCKS := " + " ".join(s.blocks) + " ;",
+             "set SUPPORTS := " + " ".join(s.supports) + " ;",
+             "set CONTACTS := " + " ".join(s.contacts) + " ;",
+             "",
+             "param: " + " ".join(BLOCK_PARAMS) + " :="]
+    for j, b in enumerate(s.blocks):
+        vals = (*s.centroid[j], *s.dead[j], *s.live[j])
+        lines.append(f"  {b} " + " ".join(_fmt(v) for v in vals))
+    lines += [";", "", "param: " + " ".join(CONTACT_PARAMS) + " :="]
+    for k, c in enumerate(s.contacts):
+        vals = (*s.centre[k], *s.normal[k], s.d[k], s.mu[k])
+        lines.append(f"  {c} {s.block_a[k]} {s.block_b[k]} " + " ".join(_fmt(v) for v in vals))
+    lines.append(";")
+    if s.polygons:
+        lines += ["", "param: VERTICES: vx vy :="]
+        for body, verts in s.polygons.items():
+            for i, (vx, vy) in enumerate(verts, start=1):
+                lines.append(f"  {body} {i} {_fmt(vx)} {_fmt(vy)}")
+        lines.append(";")
+    atomic_write_text(path, "\n".join(lines) + "\n")
+    return str(path)
+
+
+def atomic_write_text(path, text: str):
+    """Write text so that readers see either the old file or the whole new one."""
+    path = os.fspath(path)
+    tmp = f"{path}.tmp{os.getpid()}"
+    with open(tmp, "w") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def _scan_duplicates(path: str, text: str):
+    """Pyomo keeps the last of two rows with the same key; a user deserves an error."""
+    header = None
+    seen = {}
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        m = re.match(r"param\s*:(.*):=\s*(.*)$", line)
+        if m:
+            header, seen = m.group(1), {}
+            rest = m.group(2)
+            if not rest.strip():
+                continue
+            line = rest
+        if header is None:
+            continue
+        body = line.rstrip(";").strip()
+        if body:
+            key = tuple(body.split()[: 2 if header.strip().startswith("VERTICES") else 1])
+            if key in seen:
+                names = header.replace(":", " ").split()
+                raise InputError(f"{path}, line {lineno}: '{' '.join(key)}' is given twice in the table of "
+                                 f"{', '.join(names)} (first on line {seen[key]}); expected one row per key")
+            seen[key] = lineno
+        if line.endswith(";"):
+            header = None
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        m = re.match(r"\s*set\s+(\w+)\s*:=(.*)", raw.split("#", 1)[0])
+        if m:
+            members = m.group(2).replace(";", " ").split()
+            dup = {x for x in members if members.count(x) > 1}
+            if dup:
+                raise InputError(f"{path}, line {lineno}: set {m.group(1)} lists '{sorted(dup)[0]}' twice; expected unique ids")
+
+
+def read_dat(path) -> Structure:
+    """Read a Pyomo .dat file into a validated Structure (InputError on anything wrong)."""
+    from pyomo.environ import DataPortal
+
+    from .model import create_abstract_model
+
+    path = os.fspath(path)
+    try:
+        with open(path) as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the file ({exc.strerror}); expected a Pyomo .dat instance") from None
+    _scan_duplicates(path, text)
+    data = DataPortal(model=create_abstract_model())
+    try:
+        data.load(filename=path)
+    except Exception as exc:  # Pyomo's parser raises many kinds; all mean a malformed file
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"{path}: not a valid Pyomo .dat instance: {msg}") from None
+    name = os.path.splitext(os.path.basename(path))[0]
+
+    def get_set(key, required=True):
+        try:
+            members = data[key]
+        except (KeyError, ValueError):
+            if required:
+                raise InputError(f"{path}: set {key} is missing; expected 'set {key} := ... ;'") from None
+            return []
+        return [str(x) for x in (members or [])]
+
+    def get_param(key):
+        try:
+            return data[key]
+        except (KeyError, ValueError):
+            return {}
+
+    blocks, supports, contacts = get_set("BLOCKS"), get_set("SUPPORTS", required=False), get_set("CONTACTS")
+    if not blocks:
+        raise InputError(f"{path}: the set BLOCKS is empty; expected at least one movable block")
+
+    def column(key, ids, kind, numeric=True):
+        table = get_param(key)
+        out = []
+        for i in ids:
+            if i not in table:
+                raise InputError(f"{path}: parameter {key} of {kind} '{i}' is missing; expected a value for every {kind}")
+            v = table[i]
+            if numeric:
+                try:
+                    v = float(v)
+                except (TypeError, ValueError):
+                    raise InputError(f"{path}: parameter {key} of {kind} '{i}' is '{v}'; expected a number") from None
+                if not math.isfinite(v):
+                    raise InputError(f"{path}: parameter {key} of {kind} '{i}' is {v}; expected a finite number")
+            out.append(v)
+        extra = set(map(str, table)) - set(ids)
+        if extra:
+            raise InputError(f"{path}: parameter {key} is given for '{sorted(extra)[0]}', which is not in the set of {kind}s")
+        return out
+
+    bcols = {k: column(k, blocks, "block") for k in BLOCK_PARAMS}
+    ccols = {k: column(k, contacts, "contact", numeric=k not in ("block_a", "block_b")) for k in CONTACT_PARAMS}
+    polygons = defaultdict(list)
+    vx, vy = get_param("vx"), get_param("vy")
+    for key in sorted(vx, key=lambda t: (str(t[0]), int(t[1]))):
+        polygons[str(key[0])].append((float(vx[key]), float(vy.get(key, math.nan))))
+    structure = Structure(
+        name=name, blocks=blocks,
+        centroid=np.column_stack([bcols["x"], bcols["y"]]),
+        dead=np.column_stack([bcols["dead_x"], bcols["dead_y"]]),
+        live=np.column_stack([bcols["live_x"], bcols["live_y"]]),
+        supports=supports, contacts=contacts,
+        block_a=[str(v) for v in ccols["block_a"]], block_b=[str(v) for v in ccols["block_b"]],
+        centre=np.column_stack([ccols["cx"], ccols["cy"]]).reshape(-1, 2),
+        normal=np.column_stack([ccols["nx"], ccols["ny"]]).reshape(-1, 2),
+        d=ccols["d"], mu=ccols["mu"], polygons=dict(polygons))
+    try:
+        return structure.validate()
+    except InputError as exc:
+        raise InputError(f"{path}: {str(exc).split(': ', 1)[1]}") from None
