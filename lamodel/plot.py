@@ -1,0 +1,211 @@
+"""Pictures of collapse mechanisms: the blocks at rest and rigidly displaced by u.
+
+A mechanism is small-displacement kinematics (block translations and rotations at the
+centroids), so it is drawn amplified: by default the largest displacement of a vertex is
+drawn as 10 % of the size of the structure. Hinges are marked by a dot at the pivot (the
+end of the contact about which the two bodies rotate), sliding joints by a thick line
+along the contact. Rendering uses matplotlib's Agg backend (no display needed); the file
+format follows the extension of ``path`` (.png, .svg, .pdf, ...).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
+from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+from .errors import InputError  # noqa: E402
+from .structure import Structure  # noqa: E402
+
+#: Contact modes understood by :func:`plot_mechanism`.
+MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open")
+
+_BLOCK_REST = dict(facecolor="#e6e6e6", edgecolor="#9a9a9a", linewidth=0.6)
+_SUPPORT = dict(facecolor="#5a5a5a", edgecolor="#303030", linewidth=0.8, hatch="///")
+_BLOCK_MOVED = dict(facecolor="#f4a259", edgecolor="#7a3b00", linewidth=0.8, alpha=0.75)
+_HINGE_COLOUR = "#c0392b"
+_SLIDE_COLOUR = "#1f5fbf"
+
+
+def _block_motion(structure: Structure, u) -> np.ndarray:
+    u = np.asarray(u, dtype=float)
+    if u.shape != (structure.n_blocks, 3) or not np.isfinite(u).all():
+        raise InputError(f"structure '{structure.name}': mechanism u has shape {u.shape}"
+                         f"{'' if np.isfinite(u).all() else ' with non-finite values'}; "
+                         f"expected finite (n_blocks, 3) = ({structure.n_blocks}, 3) rows (u_x, u_y, theta)")
+    return u
+
+
+def displace(points, centroid, u_block) -> np.ndarray:
+    """Small-displacement rigid motion of points: ``(u_x - theta (y - y_G), u_y + theta (x - x_G))``."""
+    p = np.asarray(points, dtype=float)
+    ux, uy, th = u_block
+    return np.column_stack([ux - th * (p[:, 1] - centroid[1]), uy + th * (p[:, 0] - centroid[0])])
+
+
+def _point_motion(structure, u, owner, points):
+    """Displacement of material points of bodies ``owner`` (block index, -1 = support)."""
+    out = np.zeros_like(points)
+    on = owner >= 0
+    j = owner[on]
+    g = structure.centroid[j]
+    r = points[on] - g
+    out[on, 0] = u[j, 0] - u[j, 2] * r[:, 1]
+    out[on, 1] = u[j, 1] + u[j, 2] * r[:, 0]
+    return out
+
+
+def contact_kinematics(structure: Structure, u):
+    """Relative motion of b with respect to a at each contact.
+
+    Returns ``(opening, slip, rotation, end_gap)``: opening and slip at the centre (the
+    contact strains ``q = -A^T u`` of :mod:`lamodel.structure`), the relative rotation,
+    and the relative displacement magnitudes at the two ends ``centre -/+ d t`` (nc, 2).
+    """
+    u = _block_motion(structure, u)
+    ia, ib = structure.contact_blocks()
+    n, t, c, d = structure.normal, structure.tangent, structure.centre, structure.d
+    rel = _point_motion(structure, u, ib, c) - _point_motion(structure, u, ia, c)
+    opening = (rel * n).sum(axis=1)
+    slip = (rel * t).sum(axis=1)
+    th = np.where(ib >= 0, u[np.maximum(ib, 0), 2], 0.0) - np.where(ia >= 0, u[np.maximum(ia, 0), 2], 0.0)
+    gaps = []
+    for sign in (-1.0, 1.0):
+        # a relative rotation th about the centre moves the end c + s d t by th k x (s d t) = -th s d n
+        dn = opening - th * sign * d
+        gaps.append(np.hypot(dn, slip))
+    return opening, slip, th, np.column_stack(gaps)
+
+
+def contact_modes(structure: Structure, u, rtol: float = 1e-6) -> list:
+    """Classify every contact as closed, sliding, hinging, sliding+hinging or open.
+
+    Relative motions smaller than ``rtol`` times the largest relative motion are zero.
+    A contact is *open* when both its ends separate, *hinging* when it opens about one
+    end, *sliding* when it slips without rotating, and both when it does both.
+    """
+    opening, slip, th, _ = contact_kinematics(structure, u)
+    d = structure.d
+    end_open = np.column_stack([opening + th * d, opening - th * d])  # at centre -/+ d t
+    scale = max(np.abs(end_open).max(initial=0.0), np.abs(slip).max(initial=0.0))
+    eps = rtol * scale if scale > 0 else np.inf
+    modes = []
+    for k in range(structure.n_contacts):
+        slides = abs(slip[k]) > eps
+        if end_open[k].min() > eps:
+            modes.append("open")
+        elif abs(th[k] * d[k]) > eps:
+            modes.append("sliding+hinging" if slides else "hinging")
+        else:
+            modes.append("sliding" if slides else "closed")
+    return modes
+
+
+def pivots(structure: Structure, u) -> np.ndarray:
+    """For each contact, the end of the contact segment about which b rotates relative to a.
+
+    It is the end with the smaller relative displacement; when the two are equal it is
+    ``centre + d t`` for a positive (counter-clockwise) relative rotation of b, else
+    ``centre - d t``, with ``t = (-n_y, n_x)``.
+    """
+    _, _, th, gaps = contact_kinematics(structure, u)
+    t, c, d = structure.tangent, structure.centre, structure.d
+    plus = np.where(np.isclose(gaps[:, 0], gaps[:, 1], rtol=1e-9, atol=0), th > 0, gaps[:, 1] < gaps[:, 0])
+    return c + np.where(plus, 1.0, -1.0)[:, None] * d[:, None] * t
+
+
+def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=None, path="mechanism.png",
+                   scale=None, ax=None):
+    """Draw the blocks at rest and displaced by the mechanism ``u``; save to ``path``.
+
+    ``u`` is (n_blocks, 3): (u_x, u_y, theta) at each block centroid. ``modes`` (one of
+    :data:`MODES` per contact) defaults to :func:`contact_modes` of ``u``. ``alpha`` and
+    ``certified`` go into the title, e.g. "α = 0.63898 (certified)". ``scale`` multiplies
+    u; by default the largest vertex displacement is drawn as 10 % of the structure's
+    size. With ``ax`` the picture is drawn into that axes (and its figure saved if
+    ``path`` is given). Returns ``path``.
+    """
+    s = structure
+    u = _block_motion(s, u)
+    if modes is None:
+        modes = contact_modes(s, u)
+    modes = list(modes)
+    if len(modes) != s.n_contacts or any(m not in MODES for m in modes):
+        bad = next((m for m in modes if m not in MODES), None)
+        raise InputError(f"structure '{s.name}': {len(modes)} contact modes"
+                         f"{'' if bad is None else f' including {bad!r}'}; expected one of "
+                         f"{', '.join(MODES)} for each of the {s.n_contacts} contacts")
+    if path is not None:
+        ext = Path(path).suffix.lower().lstrip(".")
+        supported = FigureCanvasBase.get_supported_filetypes()
+        if ext not in supported:
+            raise InputError(f"{path}: unsupported picture format '.{ext}'; expected one of "
+                             f"{', '.join('.' + e for e in sorted(supported))}")
+
+    with_polygon = [j for j, b in enumerate(s.blocks) if b in s.polygons and len(s.polygons[b]) >= 3]
+    moved = {j: displace(s.polygons[s.blocks[j]], s.centroid[j], u[j]) for j in with_polygon}
+    if scale is None:
+        biggest = max((np.hypot(m[:, 0], m[:, 1]).max() for m in moved.values()), default=0.0)
+        biggest = max(biggest, np.hypot(u[:, 0], u[:, 1]).max(initial=0.0))
+        scale = 0.1 * s.size() / biggest if biggest > 0 else 1.0
+
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(8, 6))
+    rest = [s.polygons[s.blocks[j]] for j in with_polygon]
+    ax.add_collection(PolyCollection(rest, **_BLOCK_REST, zorder=1))
+    supports = [s.polygons[b] for b in s.supports if b in s.polygons]
+    if supports:
+        ax.add_collection(PolyCollection(supports, **_SUPPORT, zorder=1))
+    shifted = [s.polygons[s.blocks[j]] + scale * moved[j] for j in with_polygon]
+    ax.add_collection(PolyCollection(shifted, **_BLOCK_MOVED, zorder=2))
+    no_polygon = np.array([j for j in range(s.n_blocks) if j not in moved], dtype=int)
+    if no_polygon.size:
+        g = s.centroid[no_polygon]
+        ax.plot(g[:, 0], g[:, 1], "+", color="#9a9a9a", ms=6, zorder=1)
+        ax.plot(g[:, 0] + scale * u[no_polygon, 0], g[:, 1] + scale * u[no_polygon, 1], "+",
+                color="#7a3b00", ms=8, zorder=3)
+
+    # contact markers, drawn on the displaced picture, carried by block a
+    ia, _ = s.contact_blocks()
+    legend = []
+    sliding = np.array([m in ("sliding", "sliding+hinging") for m in modes], dtype=bool)
+    hinging = np.array([m in ("hinging", "sliding+hinging") for m in modes], dtype=bool)
+    if sliding.any():
+        k = np.flatnonzero(sliding)
+        ends = [s.centre[k] - s.d[k, None] * s.tangent[k], s.centre[k] + s.d[k, None] * s.tangent[k]]
+        ends = [e + scale * _point_motion(s, u, ia[k], e) for e in ends]
+        ax.add_collection(LineCollection(np.stack(ends, axis=1), colors=_SLIDE_COLOUR, linewidths=3.5,
+                                         zorder=4, capstyle="round"))
+        legend.append(Line2D([], [], color=_SLIDE_COLOUR, lw=3.5, label="sliding"))
+    if hinging.any():
+        k = np.flatnonzero(hinging)
+        p = pivots(s, u)[k]
+        p = p + scale * _point_motion(s, u, ia[k], p)
+        ax.plot(p[:, 0], p[:, 1], "o", color=_HINGE_COLOUR, ms=6, mec="white", mew=0.8, zorder=5)
+        legend.append(Line2D([], [], marker="o", ls="", color=_HINGE_COLOUR, mec="white", label="hinge"))
+
+    title = s.name
+    if alpha is not None:
+        title += f":  α = {alpha:.5g}"
+        if certified is not None:
+            title += " (certified)" if certified else " (NOT certified)"
+    ax.set_title(title)
+    ax.set_aspect("equal")
+    ax.margins(0.03)
+    ax.autoscale_view()
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if legend:
+        ax.legend(handles=legend, loc="upper right", fontsize="small", framealpha=0.8)
+    if path is not None:
+        ax.figure.savefig(path, dpi=150, bbox_inches="tight")
+    if own:
+        plt.close(fig)
+    return path
