@@ -158,13 +158,14 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(8, 6))
-    rest = [s.polygons[s.blocks[j]] for j in with_polygon]
-    ax.add_collection(PolyCollection(rest, **_BLOCK_REST, zorder=1))
     supports = [s.polygons[b] for b in s.supports if b in s.polygons]
     if supports:
         ax.add_collection(PolyCollection(supports, **_SUPPORT, zorder=1))
-    shifted = [s.polygons[s.blocks[j]] + scale * moved[j] for j in with_polygon]
-    ax.add_collection(PolyCollection(shifted, **_BLOCK_MOVED, zorder=2))
+    if with_polygon:
+        rest = [s.polygons[s.blocks[j]] for j in with_polygon]
+        ax.add_collection(PolyCollection(rest, **_BLOCK_REST, zorder=1))
+        shifted = [s.polygons[s.blocks[j]] + scale * moved[j] for j in with_polygon]
+        ax.add_collection(PolyCollection(shifted, **_BLOCK_MOVED, zorder=2))
     no_polygon = np.array([j for j in range(s.n_blocks) if j not in moved], dtype=int)
     if no_polygon.size:
         g = s.centroid[no_polygon]
@@ -203,7 +204,7 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     if legend:
-        ax.legend(handles=legend, loc="upper right", fontsize="small", framealpha=0.8)
+        ax.legend(handles=legend, loc="best", fontsize="small", framealpha=0.8)
     if path is not None:
         ax.figure.savefig(path, dpi=150, bbox_inches="tight")
     if own:
