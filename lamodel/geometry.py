@@ -465,7 +465,7 @@ def find_contacts(polygons, is_support, tol, ids=None, where="geometry"):
     half = np.zeros(i.size)
     for K in np.unique(width):
         run = np.flatnonzero(width == K)
-        step = max(1, 2_000_000 // (K * K))
+        step = max(1, 250_000 // (K * K))  # bounds the (pairs, K, K) temporaries to a few MB
         for s in range(0, run.size, step):
             r = run[s:s + step]
             VA, VB = V[i[r], :K], V[j[r], :K]
@@ -562,6 +562,14 @@ def _clean_number(x: float, scale: float) -> float:
     return 0.0 if abs(x) < 1e-12 * scale else x
 
 
+def _finish(name, description, mu, unit_weight, live_load, blocks):
+    spec = {"name": name}
+    if description:
+        spec["description"] = description
+    spec.update({"mu": mu, "unit_weight": unit_weight, "live_load": [float(v) for v in live_load], "blocks": blocks})
+    return spec
+
+
 def running_bond_wall(courses, full: float = 4.0, height=1.75, mu: float = 0.65,
                       unit_weight: float | None = None, live_load=(1.0, 0.0), name: str = "wall",
                       x0: float = 0.0, ground_margin: float | None = None,
@@ -604,12 +612,7 @@ def running_bond_wall(courses, full: float = 4.0, height=1.75, mu: float = 0.65,
     thick = full / 4 if ground_thickness is None else ground_thickness
     blocks.append({"id": "ground", "support": True,
                    "vertices": _rectangle(xmin - margin, -thick, xmax + margin, 0.0)})
-    spec = {"name": name}
-    if description:
-        spec["description"] = description
-    spec.update({"mu": mu, "unit_weight": unit_weight, "live_load": [float(v) for v in live_load],
-                 "blocks": blocks})
-    return spec
+    return _finish(name, description, mu, unit_weight, live_load, blocks)
 
 
 def seed_wall(n_courses: int = 6, **kwargs) -> dict:
@@ -680,16 +683,8 @@ def _skewback(inner, outer, width, y_base):
     return verts if side < 0 else verts[::-1]
 
 
-def _finish(name, description, mu, unit_weight, live_load, blocks):
-    spec = {"name": name}
-    if description:
-        spec["description"] = description
-    spec.update({"mu": mu, "unit_weight": unit_weight, "live_load": [float(v) for v in live_load], "blocks": blocks})
-    return spec
-
-
-def arch(n_voussoirs: int = 11, inner_radius: float = 5.0, thickness: float = 1.0, angle: float = 180.0,
-         impost_height: float = 1.0, impost_width: float | None = None, mu: float = 0.5,
+def arch(n_voussoirs: int = 13, inner_radius: float = 5.0, thickness: float = 1.5, angle: float = 180.0,
+         impost_height: float = 2.0, impost_width: float | None = 2.5, mu: float = 0.5,
          unit_weight: float = 1.0, live_load=(-1.0, 0.0), name: str = "arch",
          description: str | None = None, ground_margin: float | None = None) -> dict:
     """JSON spec of a circular arch of ``n_voussoirs`` with radial joints.
@@ -725,8 +720,8 @@ def arch(n_voussoirs: int = 11, inner_radius: float = 5.0, thickness: float = 1.
     return _finish(name, description, mu, unit_weight, live_load, blocks)
 
 
-def portal(n_voussoirs: int = 11, inner_radius: float = 5.0, thickness: float = 1.0, angle: float = 180.0,
-           pier_height: float = 5.0, pier_blocks: int = 5, pier_width: float | None = None,
+def portal(n_voussoirs: int = 11, inner_radius: float = 3.0, thickness: float = 1.5, angle: float = 180.0,
+           pier_height: float = 3.0, pier_blocks: int = 2, pier_width: float | None = None,
            mu: float = 0.5, unit_weight: float = 1.0, live_load=(-1.0, 0.0), name: str = "portal",
            description: str | None = None, ground_margin: float | None = None) -> dict:
     """JSON spec of a portal: a circular arch (see :func:`arch`) on two piers.
@@ -758,3 +753,34 @@ def portal(n_voussoirs: int = 11, inner_radius: float = 5.0, thickness: float = 
     blocks.append({"id": "ground", "support": True,
                    "vertices": _rectangle(-x_ext - margin, -pier_height - thickness, x_ext + margin, -pier_height)})
     return _finish(name, description, mu, unit_weight, live_load, blocks)
+
+
+_SEED_LOADS = ("Live load horizontal, pointing left and equal to the weight (seed eq. 6: fbar = (-W, 0), "
+               "f0 = (0, -W)); unit weight 1, mu = 0.5, unit width. Dimensions chosen for this project "
+               "(the seed's figure gives none): ")
+
+
+def seed_instances() -> dict:
+    """JSON specs of the seed's examples, by name: the panels of Table 1 (exact) and
+    drafts of the arch and portals of Figs 2-4 (the text gives loads and friction but no
+    dimensions; these were chosen so that the collapse mechanisms have the character the
+    seed describes). ``instances/<name>.json`` are these specs, written by
+    :func:`structure_to_json`.
+    """
+    return {
+        "wall33": seed_wall(6),
+        "wall55": seed_wall(10),
+        "arch": arch(13, 5.0, 1.5, impost_height=2.0, impost_width=2.5, name="arch", description=(
+            _SEED_LOADS + "semicircular ring of 13 voussoirs with radial joints, intrados radius 5, thickness 1.5 "
+            "(centre at (0, 0)); it springs from two impost blocks 2.5 wide and 2 high (inner faces flush with "
+            "the intrados) standing on a rigid ground. Note: with every block loaded and flat frictional bases, "
+            "alpha <= mu = 0.5 for any such model, so the seed's 0.63425 cannot be reproduced without its figure.")),
+        "portal": portal(11, 3.0, 1.5, pier_height=3.0, pier_blocks=2, name="portal", description=(
+            _SEED_LOADS + "portal of constant thickness 1.5: semicircular ring of 11 voussoirs, intrados radius 3, "
+            "on two piers each made of 2 stacked 1.5 x 1.5 blocks (pier height 3, inner faces flush with the "
+            "intrados), on a rigid ground.")),
+        "portal_columns": portal(11, 3.0, 1.5, pier_height=4.5, pier_blocks=1, pier_width=2.25,
+                                 name="portal_columns", description=(
+            _SEED_LOADS + "semicircular ring of 11 voussoirs, intrados radius 3, thickness 1.5, on two columns "
+            "each a single block 2.25 wide and 4.5 high (inner faces flush with the intrados), on a rigid ground.")),
+    }
