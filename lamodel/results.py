@@ -215,7 +215,7 @@ def _canonical(df: pd.DataFrame, table: str, where: str) -> pd.DataFrame:
     missing = [c for c in kinds if c not in df.columns]
     if missing:
         raise InputError(f"{where}: column '{missing[0]}' is missing; expected columns "
-                         f"{', '.join(kinds)} (in this order, extra columns after them)")
+                         f"{', '.join(kinds)} (extra columns may follow them)")
     if table == "summary" and len(df) != 1:
         raise InputError(f"{where}: has {len(df)} data rows; expected exactly one row (the summary)")
 

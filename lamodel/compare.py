@@ -1,0 +1,183 @@
+"""Compare two limit-analysis results (result folders or their summary.csv files).
+
+``python scripts/compare.py A B [--atol 1e-5]`` prints a table of the differences and
+exits with
+
+* 0 when A and B agree within the tolerance,
+* 1 when they differ,
+* 2 on a malformed or missing input (one line ``compare.py: error: <message>`` on stderr).
+
+A and B differ when any of the following holds:
+
+* the collapse multipliers differ: ``|alpha_B - alpha_A| > atol``;
+* ``certified`` differs;
+* the sets of contact ids or of block ids differ;
+* a contact (matched by contact id) changed its mode;
+* a contact force differs, matched by contact id:
+  ``max |N_B - N_A|`` (likewise V, M) ``> atol * max(1, max |N| of A)`` — the forces are
+  measured against the largest normal force of A, so the test is relative for heavy
+  structures and absolute for light ones;
+* a block displacement differs, matched by block id:
+  ``max |ux_B - ux_A|`` (likewise uy, theta) ``> atol * max(1, max |u| of A)``, where
+  ``max |u|`` is the largest of |ux|, |uy|, |theta| over the blocks of A (the mechanism is
+  normalised by ``sum(live . u) = 1``, so its size is fixed by the live load).
+
+NaN equals NaN; NaN against a number is a difference. Rows ``instance`` and
+``alpha_associative`` are shown for information and never count as differences.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+import numpy as np
+import pandas as pd
+
+from .errors import InputError
+from .results import Results
+
+PROG = "compare.py"
+DEFAULT_ATOL = 1e-5
+FORCE_COLUMNS = ("N", "V", "M")
+DISPLACEMENT_COLUMNS = ("ux", "uy", "theta")
+TABLE_COLUMNS = ["A", "B", "difference", "tolerance", "differs", "detail"]
+
+
+def _ids(values, limit: int = 10) -> str:
+    values = list(values)
+    shown = ", ".join(str(v) for v in values[:limit])
+    return shown + (f", ... ({len(values) - limit} more)" if len(values) > limit else "")
+
+
+def _abs_diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """|b - a| elementwise, with NaN vs NaN counted as 0 and NaN vs a number as inf."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    with np.errstate(invalid="ignore"):
+        d = np.abs(b - a)
+    both = np.isnan(a) & np.isnan(b)
+    d[both] = 0.0
+    d[np.isnan(d)] = np.inf
+    return d
+
+
+def _scale(values: np.ndarray) -> float:
+    """max(1, largest finite |value|)."""
+    v = np.abs(np.asarray(values, dtype=float).ravel())
+    v = v[np.isfinite(v)]
+    return max(1.0, float(v.max())) if v.size else 1.0
+
+
+def _matched_rows(a: pd.DataFrame, b: pd.DataFrame, key: str, columns, tol: float, kind: str, rows: dict):
+    """Largest |B - A| of each column over the rows of a and b with the same ``key``."""
+    common = a[[key, *columns]].merge(b[[key, *columns]], on=key, suffixes=("_A", "_B"), sort=False)
+    for c in columns:
+        label = f"max |d{c}|"
+        if common.empty:
+            rows[label] = dict(A="", B="", difference=0.0, tolerance=tol, differs=False,
+                               detail=f"no common {kind} ids")
+            continue
+        d = _abs_diff(common[f"{c}_A"].to_numpy(), common[f"{c}_B"].to_numpy())
+        i = int(np.argmax(d))
+        worst = common.iloc[i]
+        rows[label] = dict(A=worst[f"{c}_A"], B=worst[f"{c}_B"], difference=float(d[i]), tolerance=tol,
+                           differs=bool(d[i] > tol), detail=f"at {kind} {worst[key]}")
+
+
+def _id_sets(a: pd.DataFrame, b: pd.DataFrame, key: str, kind: str, rows: dict):
+    ia, ib = list(a[key]), list(b[key])
+    only_a = [x for x in ia if x not in set(ib)]
+    only_b = [x for x in ib if x not in set(ia)]
+    parts = []
+    if only_a:
+        parts.append(f"only in A: {_ids(only_a)}")
+    if only_b:
+        parts.append(f"only in B: {_ids(only_b)}")
+    rows[f"{kind}s"] = dict(A=len(ia), B=len(ib), difference=len(only_a) + len(only_b), tolerance="",
+                            differs=bool(parts), detail="; ".join(parts) if parts else f"same {kind} ids")
+
+
+def compare_results(a: Results, b: Results, atol: float = DEFAULT_ATOL):
+    """Compare result B with result A.
+
+    Returns ``(table, differ)``: ``table`` is a DataFrame indexed by quantity (instance,
+    alpha, certified, alpha_associative, blocks, contacts, mode changes, max |dN|, max |dV|,
+    max |dM|, max |dux|, max |duy|, max |dtheta|) with columns A, B, difference, tolerance,
+    differs, detail; ``differ`` is True when any row differs beyond the tolerance (see the
+    module docstring for the rules and the scaling of the tolerance).
+    """
+    atol = float(atol)
+    if not math.isfinite(atol) or atol < 0:
+        raise InputError(f"atol is {atol}; expected a finite tolerance >= 0")
+    rows = {}
+    rows["instance"] = dict(A=a.instance, B=b.instance, difference="", tolerance="", differs=False,
+                            detail="same instance" if a.instance == b.instance else "different names (not counted)")
+    d_alpha = float(_abs_diff([a.alpha], [b.alpha])[0])
+    rows["alpha"] = dict(A=a.alpha, B=b.alpha, difference=b.alpha - a.alpha if math.isfinite(d_alpha) else d_alpha,
+                         tolerance=atol, differs=bool(d_alpha > atol), detail="B - A")
+    rows["certified"] = dict(A=a.certified, B=b.certified, difference="", tolerance="",
+                             differs=a.certified != b.certified,
+                             detail="same" if a.certified == b.certified else "certification differs")
+    rows["alpha_associative"] = dict(A=a.alpha_associative, B=b.alpha_associative,
+                                     difference=b.alpha_associative - a.alpha_associative, tolerance="",
+                                     differs=False, detail="information (not counted)")
+    _id_sets(a.blocks, b.blocks, "block", "block", rows)
+    _id_sets(a.contacts, b.contacts, "contact", "contact", rows)
+
+    modes = a.contacts[["contact", "mode"]].merge(b.contacts[["contact", "mode"]], on="contact",
+                                                   suffixes=("_A", "_B"), sort=False)
+    changed = modes[modes["mode_A"] != modes["mode_B"]]
+    rows["mode changes"] = dict(
+        A="", B="", difference=len(changed), tolerance=0, differs=len(changed) > 0,
+        detail=_ids(f"{r.contact} ({r.mode_A} -> {r.mode_B})" for r in changed.itertuples())
+        if len(changed) else f"none among {len(modes)} common contacts")
+
+    force_tol = atol * _scale(a.contacts["N"].to_numpy())
+    _matched_rows(a.contacts, b.contacts, "contact", FORCE_COLUMNS, force_tol, "contact", rows)
+    disp_tol = atol * _scale(a.blocks[list(DISPLACEMENT_COLUMNS)].to_numpy())
+    _matched_rows(a.blocks, b.blocks, "block", DISPLACEMENT_COLUMNS, disp_tol, "block", rows)
+
+    table = pd.DataFrame.from_dict(rows, orient="index")[TABLE_COLUMNS].astype(object)
+    return table, bool(table["differs"].any())
+
+
+class _UsageError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, no usage block, exit status decided by main
+        raise _UsageError(message)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog=PROG, description=(
+        "Compare two limit-analysis results (result folders or their summary.csv). "
+        "Exit 0: they agree within the tolerance; 1: they differ; 2: malformed or missing input."))
+    p.add_argument("a", metavar="A", help="reference result: a result folder or its summary.csv")
+    p.add_argument("b", metavar="B", help="result to compare with A")
+    p.add_argument("--atol", type=float, default=DEFAULT_ATOL,
+                   help="absolute tolerance on alpha; forces are compared with atol*max(1, max|N| of A), "
+                        "displacements with atol*max(1, max|u| of A) (default: %(default)g)")
+    return p
+
+
+def main(argv=None) -> int:
+    """Command-line entry point; returns the exit status (0 agree, 1 differ, 2 bad input)."""
+    try:
+        args = _parser().parse_args(argv)
+        a, b = Results.read(args.a), Results.read(args.b)
+        table, differ = compare_results(a, b, args.atol)
+    except (_UsageError, InputError) as exc:
+        print(f"{PROG}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    with pd.option_context("display.max_colwidth", 200, "display.width", 250,
+                           "display.float_format", lambda v: f"{v:.10g}"):
+        print(f"A: {args.a}\nB: {args.b}\n")
+        print(table.to_string())
+    bad = list(table.index[table["differs"].astype(bool)])
+    if differ:
+        print(f"\nA and B differ (atol={args.atol:g}): {', '.join(bad)}")
+        return 1
+    print(f"\nA and B agree (atol={args.atol:g})")
+    return 0
