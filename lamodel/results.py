@@ -56,7 +56,7 @@ CONTACT_COLUMNS = {
     "N": "float", "V": "float", "M": "float", "mode": "mode",
 }
 RUN_COLUMNS = {
-    "start": "id", "source": "str", "alpha_ipopt": "float", "status": "str",
+    "start": "int", "source": "str", "alpha_ipopt": "float", "status": "str",
     "alpha_certified": "float", "iterations": "Int", "seconds": "float",
 }
 
@@ -297,7 +297,8 @@ class Results:
 
     ``summary`` has one row; ``blocks``, ``contacts`` and ``runs`` one row per movable block,
     per contact and per solver start. On construction every table is brought to its
-    canonical form: contract columns first and in order, ids as text, floats as float64,
+    canonical form: contract columns first and in order, ids as text (``start`` as int64),
+    floats as float64,
     counts as int64 (``iterations`` as nullable Int64), ``certified`` as bool.
     """
 

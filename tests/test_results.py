@@ -82,7 +82,7 @@ def test_from_frames_orders_columns_and_types():
     assert_bit_identical(r, shuffled)
     assert r.summary["certified"].dtype == bool
     assert r.summary["n_blocks"].dtype == np.int64
-    assert r.runs["start"].tolist() == ["0", "1"]
+    assert r.runs["start"].tolist() == [0, 1] and r.runs["start"].dtype == np.int64
     assert r.runs["iterations"].isna().tolist() == [False, True]
 
 
