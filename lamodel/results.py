@@ -298,8 +298,8 @@ class Results:
     ``summary`` has one row; ``blocks``, ``contacts`` and ``runs`` one row per movable block,
     per contact and per solver start. On construction every table is brought to its
     canonical form: contract columns first and in order, ids as text (``start`` as int64),
-    floats as float64,
-    counts as int64 (``iterations`` as nullable Int64), ``certified`` as bool.
+    floats as float64, counts as int64 (``iterations`` as nullable Int64), ``certified`` as
+    bool. Extra columns keep their order after the contract's.
     """
 
     summary: pd.DataFrame

@@ -27,7 +27,7 @@ def two_blocks(**summary_changes) -> Results:
         d=[1.0, 1.0, 0.875], mu=[0.65, 0.65, 0.65], N=[-1.0 / 3.0, -1.7, 0.0],
         V=[0.1, -0.2, 0.0], M=[1.0 / 3.0, 0.0, -0.0], mode=["hinging", "closed", "open"]))
     runs = pd.DataFrame(dict(
-        start=[0, 1], source=["lp", "random"], alpha_ipopt=[0.1 + 0.2, np.nan], status=["optimal", "failed"],
+        start=[0, 1], source=["lp", "random"], alpha_ipopt=[0.1 + 0.2, np.nan], status=["optimal", 'failed: ValueError: "x", y\nsecond line'],
         alpha_certified=[0.1 + 0.2, np.nan], iterations=[17, None], seconds=[0.01, 0.02]))
     return Results.from_frames(summary, blocks, contacts, runs)
 
