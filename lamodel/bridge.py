@@ -197,8 +197,11 @@ class QuadraticNLP:
         x = np.array([0.0 if v.value is None else float(v.value) for v in self.variables])
         return np.clip(x, xl, xu)
 
-    def solve(self, x0=None, options=None, tee=False, load=True):
+    def solve(self, x0=None, options=None, tee=False, load=True, multipliers=None):
         """Run Ipopt from x0 (default: the variables' current values).
+
+        ``multipliers`` = (mult_g, mult_x_L, mult_x_U) of an earlier solve warm-starts the
+        duals too (with Ipopt's ``warm_start_init_point yes``).
 
         Returns a dict with x, status (Ipopt's code), message, objective, iterations,
         seconds, mult_g (Ipopt's sign: L = f + mult_g^T g), mult_x_L, mult_x_U.
@@ -214,13 +217,17 @@ class QuadraticNLP:
         for k, v in (options or {}).items():
             problem.add_option(k, v)
         start = time.perf_counter()
-        x, info = problem.solve(x0)
+        if multipliers is None:
+            x, info = problem.solve(x0)
+        else:
+            lam, zl, zu = multipliers
+            x, info = problem.solve(x0, lagrange=np.asarray(lam), zl=np.asarray(zl), zu=np.asarray(zu))
         seconds = time.perf_counter() - start
         out = dict(x=np.asarray(x), status=int(info["status"]),
                    message=info["status_msg"].decode() if isinstance(info["status_msg"], bytes) else str(info["status_msg"]),
                    objective=self.sense * float(info["obj_val"]), iterations=nlp.iterations, seconds=seconds,
                    mult_g=np.asarray(info["mult_g"]), mult_x_L=np.asarray(info["mult_x_L"]),
-                   mult_x_U=np.asarray(info["mult_x_U"]))
+                   mult_x_U=np.asarray(info["mult_x_U"]), g=np.asarray(info["g"]))
         if load:
             self.load(out)
         return out

@@ -292,3 +292,32 @@ def _take_config(init):
 
 
 LimitAnalysisBlock.__init__ = _take_config(LimitAnalysisBlock.__init__)  # noqa: F821 (made by the decorator)
+
+
+# ------------------------------------------------------------- values in and out of a model
+def set_state(b, structure: Structure, N, V, M, alpha, u, xi):
+    """Load forces, multiplier, mechanism and flow (lamodel's array layout) into the model."""
+    nc = structure.n_contacts
+    for k, c in enumerate(structure.contacts):
+        b.N[c].set_value(float(N[k]), skip_validation=True)
+        b.V[c].set_value(float(V[k]), skip_validation=True)
+        b.M[c].set_value(float(M[k]), skip_validation=True)
+        for r, row in enumerate(YIELD_ROWS):
+            b.xi[c, row].set_value(float(xi[r * nc + k]), skip_validation=True)
+    for j, blk in enumerate(structure.blocks):
+        b.ux[blk].set_value(float(u[3 * j]), skip_validation=True)
+        b.uy[blk].set_value(float(u[3 * j + 1]), skip_validation=True)
+        b.theta[blk].set_value(float(u[3 * j + 2]), skip_validation=True)
+    b.alpha.set_value(float(alpha), skip_validation=True)
+
+
+def get_state(b, structure: Structure):
+    """(N, V, M, alpha, u, xi) of the model, in lamodel's array layout."""
+    val = lambda v: 0.0 if v.value is None else float(v.value)  # noqa: E731
+    cs, bs = structure.contacts, structure.blocks
+    N = np.array([val(b.N[c]) for c in cs])
+    V = np.array([val(b.V[c]) for c in cs])
+    M = np.array([val(b.M[c]) for c in cs])
+    xi = np.array([val(b.xi[c, row]) for row in YIELD_ROWS for c in cs])
+    u = np.array([val(v) for blk in bs for v in (b.ux[blk], b.uy[blk], b.theta[blk])])
+    return N, V, M, val(b.alpha), u, xi

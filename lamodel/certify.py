@@ -1,0 +1,184 @@
+"""Certification: turn a candidate into an exact collapse state, or reject it.
+
+A collapse state of the frictional assembly is a statically admissible state s (eq. 1-4)
+and a mechanism (u, xi) of the fictitious cohesive system (fbar^T u = 1, xi >= 0) whose
+flow happens only on yield rows that s holds at equality. By virtual work its multiplier
+is then exactly alpha = alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5), the seed's second
+theorem. The candidate (an Ipopt point, an LP point) only suggests which rows are active:
+
+1. the rows the candidate holds within a tolerance are *allowed* to flow; an LP finds a
+   mechanism flowing only on them (the one of least alpha_K for the candidate's N);
+2. an LP finds the statics with the rows that mechanism uses held at equality, with the
+   least alpha.
+
+Both feasible means an exact collapse state; its alpha comes from the LP, never from the
+candidate. :func:`residuals` re-checks every condition with plain numpy.
+:func:`descend` then alternates the two LPs, each step keeping or lowering alpha.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .lp import LimitLPs
+
+#: Relative tolerances tried, tightest first, to decide which yield rows a candidate holds.
+ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
+#: A certified state must satisfy every condition to this relative accuracy.
+RESIDUAL_TOLERANCE = 1e-7
+
+
+@dataclass
+class CollapseState:
+    """An exact collapse state: forces, multiplier, mechanism and the rows that flow."""
+
+    alpha: float
+    N: np.ndarray
+    V: np.ndarray
+    M: np.ndarray
+    u: np.ndarray          # (3 nb): ux, uy, theta block after block
+    xi: np.ndarray         # (4 nc): stacked by yield row (slide+, slide-, hinge+, hinge-)
+    flow: np.ndarray       # (4 nc) bool: rows that flow
+    source: str = ""
+    residual: dict = field(default_factory=dict)
+
+    @property
+    def forces(self) -> np.ndarray:
+        return np.concatenate([self.N, self.V, self.M, [self.alpha]])
+
+
+def force_scale(lps: LimitLPs) -> float:
+    """A force that measures the problem: the largest block load (dead or live)."""
+    return float(max(np.abs(lps.f0).max(), np.abs(lps.fbar).max(), 1e-300))
+
+
+def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
+    """Relative violations of every condition of a collapse state (0 is exact).
+
+    equilibrium (eq. 2), yield (eq. 4), compatibility with the cohesive flow rule, the
+    normalisation fbar^T u = 1, complementarity (flow only on rows held at equality) and
+    the virtual-work identity alpha = alpha_K (eq. 5).
+    """
+    F = force_scale(lps)
+    x = np.concatenate([N, V, M, [alpha]])
+    s = x[:-1]
+    U = max(np.abs(u).max(), np.abs(xi).max(), 1e-300)
+    eq = lps.A @ s + lps.f0 + alpha * lps.fbar
+    slack = lps.slack(x)
+    compat = -(lps.A.T @ u) - lps.G.T @ xi
+    work_scale = max(F * U, 1e-300)
+    return {
+        "equilibrium": float(np.abs(eq).max() / F),
+        "yield": float(max(-slack.min(), 0.0) / F),
+        "compatibility": float(np.abs(compat).max() / U),
+        "normalisation": float(abs(lps.fbar @ u - 1.0)),
+        "nonnegative_flow": float(max(-xi.min(), 0.0) / U),
+        "complementarity": float(np.abs(xi * slack).max() / work_scale),
+        "virtual_work": float(abs(lps.kinematic_multiplier(u, xi, N) - alpha) / max(abs(alpha), 1.0)),
+    }
+
+
+def _active(lps, x, tol):
+    return lps.slack(x) <= tol * force_scale(lps)
+
+
+def _state_from(lps, st, u, xi, flow, source):
+    N, V, M, alpha = lps.split(st.x)
+    res = residuals(lps, N, V, M, alpha, u, xi)
+    if max(res.values()) > RESIDUAL_TOLERANCE:
+        return None
+    return CollapseState(alpha=float(alpha), N=N.copy(), V=V.copy(), M=M.copy(), u=u.copy(), xi=xi.copy(),
+                         flow=flow.copy(), source=source, residual=res)
+
+
+def certify_flow(lps: LimitLPs, u, xi, source="", flow_tol=1e-9):
+    """Certify a mechanism that is already exact (e.g. the duals of an LP): statics with
+    its flowing rows held at equality. Returns a CollapseState or None."""
+    xi = np.maximum(np.asarray(xi, dtype=float), 0.0)
+    flow = xi > flow_tol * max(xi.max(), 1e-300)
+    st = lps.statics(flow)
+    if not st.ok:
+        return None
+    xi = np.where(flow, xi, 0.0)
+    return _state_from(lps, st, np.asarray(u, dtype=float), xi, flow, source)
+
+
+def certify(lps: LimitLPs, N, V, M, alpha=None, u=None, xi=None, source="", tolerances=ACTIVE_TOLERANCES):
+    """Certify a candidate (forces, and optionally its mechanism) as in the module doc.
+
+    Tries the tolerances in turn and keeps the least certified alpha; None if no
+    tolerance yields an exact collapse state.
+    """
+    x = np.concatenate([N, V, M, [0.0 if alpha is None else alpha]])
+    best = None
+    tried = set()
+    for tol in tolerances:
+        allowed = _active(lps, x, tol)
+        key = allowed.tobytes()
+        if key in tried or not allowed.any():
+            continue
+        tried.add(key)
+        mres, u_lp, xi_lp = lps.mechanism(allowed, N)
+        candidates = []
+        if mres.ok:
+            candidates.append((u_lp, xi_lp))
+        if u is not None and xi is not None:
+            # the candidate's own flow, cleaned to the allowed rows, when it is exact enough
+            candidates.append((np.asarray(u, dtype=float), np.where(allowed, np.maximum(xi, 0.0), 0.0)))
+        for uu, xx in candidates:
+            state = certify_flow(lps, uu, xx, source)
+            if state is not None and (best is None or state.alpha < best.alpha):
+                best = state
+        if best is not None:
+            break
+    return best
+
+
+def descend(lps: LimitLPs, state: CollapseState, max_steps: int = 50, tol: float = 1e-9) -> CollapseState:
+    """Alternate the two certification LPs from a collapse state; alpha never increases.
+
+    With the rows the statics holds at equality allowed to flow, the current mechanism is
+    feasible, so the least-alpha_K mechanism does no worse; with the rows that mechanism
+    uses held, the current statics is feasible, so the least-alpha statics does no worse.
+    """
+    for _ in range(max_steps):
+        allowed = _active(lps, state.forces, tol)
+        mres, u, xi = lps.mechanism(allowed, state.N)
+        if not mres.ok:
+            break
+        nxt = certify_flow(lps, u, xi, state.source)
+        if nxt is None or nxt.alpha >= state.alpha - 1e-12 * max(1.0, abs(state.alpha)):
+            break
+        state = nxt
+    return state
+
+
+def contact_modes(structure, xi, tol: float = 1e-7):
+    """Mode of each contact from its flow: closed, sliding, hinging, sliding+hinging, open.
+
+    slip = xi_slide+ - xi_slide-, rotation = xi_hinge- - xi_hinge+, opening = d (xi_h+ + xi_h-).
+    'open' is a separation wider than a rotation about an edge explains.
+    """
+    nc = structure.n_contacts
+    xi = np.asarray(xi, dtype=float)
+    x1, x2, x3, x4 = xi[:nc], xi[nc:2 * nc], xi[2 * nc:3 * nc], xi[3 * nc:]
+    d = structure.d
+    slip = np.abs(x1 - x2)
+    turn = d * np.abs(x4 - x3)
+    opening = d * (x3 + x4)
+    scale = max(slip.max(initial=0.0), opening.max(initial=0.0), 1e-300)
+    eps = tol * scale
+    modes = []
+    for k in range(nc):
+        if opening[k] > turn[k] + eps:
+            modes.append("open")
+        elif turn[k] > eps and slip[k] > eps:
+            modes.append("sliding+hinging")
+        elif turn[k] > eps:
+            modes.append("hinging")
+        elif slip[k] > eps:
+            modes.append("sliding")
+        else:
+            modes.append("closed")
+    return modes
