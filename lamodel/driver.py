@@ -32,10 +32,17 @@ from .structure import Structure
 EPSILON_LADDER = (1e-3, 1e-5, 0.0)
 #: Ipopt options for the warm-started ladder (start points are nearly feasible)
 IPOPT_OPTIONS = {"tol": 1e-8, "acceptable_tol": 1e-6, "constr_viol_tol": 1e-9, "mu_init": 1e-6,
-                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 400, "mumps_pivot_order": 0,
+                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 150, "mumps_pivot_order": 0,
                  # Ipopt relaxes bounds by 1e-8 by default: a tension N = +1e-8 on an open joint
                  # times xi at its bound makes a fake, lower alpha_K (measured on wall55: 4.5e-5).
                  "bound_relax_factor": 0.0}
+
+
+#: Ipopt's return codes in a word or two (runs.csv's status column)
+IPOPT_STATUS = {0: "optimal", 1: "acceptable", 2: "infeasible", 3: "step too small", 4: "diverging",
+                5: "user stop", 6: "feasible point", -1: "iteration limit", -2: "restoration failed",
+                -3: "step error", -4: "time limit", -10: "too few degrees of freedom", -11: "invalid problem",
+                -12: "invalid option", -13: "invalid number", -199: "internal error"}
 
 
 @dataclass
@@ -256,7 +263,7 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
             opts["max_cpu_time"] = float(left)
         out = nlp.solve(x0=x, options=opts, load=True, multipliers=mult)
         iterations += out["iterations"]
-        message = out["message"]
+        message = IPOPT_STATUS.get(out["status"], f"ipopt status {out['status']}")
         if out["status"] in (-3, -10, -11, -12, -13, -199):
             break
         x, mult = out["x"], (out["mult_g"], out["mult_x_L"], out["mult_x_U"])

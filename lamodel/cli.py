@@ -1,0 +1,148 @@
+"""Command line: ``python scripts/solve.py INSTANCE [options]``.
+
+Exit status: 0 a certified collapse multiplier was found; 3 none was (including a
+structure unstable under its dead load, or one no live load can collapse); 2 bad input;
+130 interrupted (what was certified so far is written).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import traceback
+from pathlib import Path
+
+EXIT_CERTIFIED, EXIT_BAD_INPUT, EXIT_NOT_CERTIFIED, EXIT_INTERRUPTED = 0, 2, 3, 130
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2 (argparse would print the whole usage)
+        raise _Usage(message)
+
+
+class _Usage(Exception):
+    pass
+
+
+def _positive_int(text):
+    v = int(text)
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text}")
+    return v
+
+
+def _positive_float(text):
+    v = float(text)
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text}")
+    return v
+
+
+def solve_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="solve.py", description="Minimum collapse multiplier of a frictional block assembly "
+                                              "(seed eq. 5), certified by LP.")
+    p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
+    p.add_argument("--out", help="result folder (default: results/<instance name>/)")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
+    p.add_argument("--starts", type=_positive_int, default=2, help="Ipopt solves of eq. 5 (default 2; 0: LPs only)")
+    p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
+    p.add_argument("--pop-size", type=_positive_int, default=12, help="GA population (default 12)")
+    p.add_argument("--generations", type=_positive_int, default=6, help="GA generations (default 6)")
+    p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
+    p.add_argument("--no-plot", action="store_true", help="draw no picture")
+    p.add_argument("--quiet", action="store_true", help="print only the one-line result")
+    p.add_argument("--debug", action="store_true", help="show tracebacks")
+    return p
+
+
+def load_structure(path: str):
+    """A Structure from a .dat or a .json file (InputError otherwise)."""
+    from .errors import InputError
+    ext = Path(path).suffix.lower()
+    if not Path(path).is_file():
+        raise InputError(f"{path}: no such file; expected a .dat instance or a .json geometry")
+    if ext == ".json":
+        from .geometry import structure_from_json
+        return structure_from_json(path)
+    if ext == ".dat":
+        from .datfile import read_dat
+        return read_dat(path)
+    raise InputError(f"{path}: unknown file type '{ext}'; expected .dat (Pyomo data) or .json (polygons)")
+
+
+def solve_main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    debug = "--debug" in argv
+    try:
+        args = solve_parser().parse_args(argv)
+    except _Usage as exc:
+        print(f"solve.py: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    try:
+        return _solve(args)
+    except KeyboardInterrupt:
+        print("solve.py: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        from .errors import InputError
+        if debug:
+            traceback.print_exc()
+        if isinstance(exc, InputError):
+            print(f"solve.py: error: {exc}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+        print(f"solve.py: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
+              file=sys.stderr)
+        return 1
+
+
+def _solve(args) -> int:
+    import warnings
+
+    import pandas as pd
+
+    from .driver import SolveOptions, solve
+    from .report import outcome_results
+
+    with warnings.catch_warnings():
+        if args.quiet:
+            warnings.simplefilter("ignore")
+        structure = load_structure(args.instance)
+    out = Path(args.out) if args.out else Path("results") / structure.name
+    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
+                           pop_size=max(args.pop_size, 2), generations=max(args.generations, 1),
+                           progress=not args.quiet)
+    outcome = solve(structure, options)
+    results = outcome_results(outcome)
+    results.write(out)
+    picture = None
+    if not args.no_plot:
+        picture = _draw(structure, outcome, args.plot or out / "mechanism.png")
+    if not args.quiet:
+        with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
+            print(results.to_text())
+        print(f"results written to {out}/" + (f", picture {picture}" if picture else ""))
+    if outcome.certified:
+        print(f"{structure.name}: alpha = {outcome.best.alpha:.6f} (certified collapse state; associative bound "
+              f"{outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
+    else:
+        print(f"{structure.name}: no certified collapse multiplier: {outcome.message}")
+    if outcome.status == "interrupted":
+        return EXIT_INTERRUPTED
+    return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
+
+
+def _draw(structure, outcome, path):
+    import numpy as np
+
+    from .certify import contact_modes
+    from .plot import plot_mechanism
+    path = Path(path)
+    if path.parent and not path.parent.exists():
+        os.makedirs(path.parent, exist_ok=True)
+    if outcome.best is not None:
+        u, modes = outcome.best.u.reshape(-1, 3), contact_modes(structure, outcome.best.xi)
+        alpha = outcome.best.alpha
+    else:
+        u, modes, alpha = np.zeros((structure.n_blocks, 3)), ["closed"] * structure.n_contacts, None
+    return plot_mechanism(structure, u, modes=modes, alpha=alpha, certified=outcome.certified, path=str(path))

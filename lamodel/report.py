@@ -1,0 +1,49 @@
+"""From what the driver found to the tables of the output contract (:mod:`lamodel.results`)."""
+from __future__ import annotations
+
+from dataclasses import asdict
+
+import numpy as np
+import pandas as pd
+
+from .certify import contact_modes
+from .driver import Outcome
+from .results import Results
+
+
+def outcome_results(outcome: Outcome) -> Results:
+    """The four tables of a solve. Without a certified state, alpha, forces and the
+    mechanism are NaN: nothing uncertified is reported as a collapse multiplier."""
+    s, best = outcome.structure, outcome.best
+    nb, nc = s.n_blocks, s.n_contacts
+    if best is not None:
+        u = best.u.reshape(-1, 3)
+        N, V, M = best.N, best.V, best.M
+        modes = contact_modes(s, best.xi)
+    else:
+        u = np.full((nb, 3), np.nan)
+        N = V = M = np.full(nc, np.nan)
+        modes = ["closed"] * nc
+    blocks = pd.DataFrame({
+        "block": s.blocks, "x": s.centroid[:, 0], "y": s.centroid[:, 1],
+        "dead_x": s.dead[:, 0], "dead_y": s.dead[:, 1], "live_x": s.live[:, 0], "live_y": s.live[:, 1],
+        "ux": u[:, 0], "uy": u[:, 1], "theta": u[:, 2]})
+    contacts = pd.DataFrame({
+        "contact": s.contacts, "block_a": s.block_a, "block_b": s.block_b,
+        "cx": s.centre[:, 0], "cy": s.centre[:, 1], "nx": s.normal[:, 0], "ny": s.normal[:, 1],
+        "d": s.d, "mu": s.mu, "N": N, "V": V, "M": M, "mode": modes})
+    runs = pd.DataFrame([asdict(r) for r in outcome.runs],
+                        columns=["start", "source", "alpha_ipopt", "status", "alpha_certified", "iterations",
+                                 "seconds"])
+    summary = {
+        "instance": s.name,
+        "alpha": best.alpha if best is not None else np.nan,
+        "certified": best is not None,
+        "alpha_associative": outcome.alpha_associative,
+        "n_blocks": nb, "n_contacts": nc,
+        "n_starts": len(outcome.runs),
+        "n_certified": int(np.isfinite(runs["alpha_certified"].astype(float)).sum()) if len(runs) else 0,
+        "wall_time_s": outcome.wall_time_s,
+        "status": outcome.status, "message": outcome.message, "seed": outcome.seed,
+    }
+    return Results.from_frames(summary, blocks, contacts, runs)

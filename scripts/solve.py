@@ -1,0 +1,14 @@
+#!/usr/bin/env python3
+"""Minimum collapse multiplier of a block assembly: python scripts/solve.py instances/wall33.dat
+
+A thin wrapper over lamodel.cli (see `python scripts/solve.py --help`).
+"""
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout without installing
+
+from lamodel.cli import solve_main  # noqa: E402
+
+if __name__ == "__main__":
+    sys.exit(solve_main())

@@ -1,0 +1,42 @@
+"""Shared fixtures: small structures built from polygons, and the repository paths."""
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+INSTANCES = ROOT / "instances"
+
+
+def rect(x0, y0, x1, y1):
+    return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+
+
+def stack_spec(n=2, width=1.0, height=1.0, mu=0.6, live=(1.0, 0.0)):
+    """n equal blocks stacked on the ground: overturning of the whole stack about its
+    toe needs alpha = (width/2) / (n height / 2) = width / (n height)."""
+    blocks = [{"id": "ground", "vertices": rect(-2, -1, 2, 0), "support": True}]
+    for i in range(n):
+        blocks.append({"id": f"b{i + 1}", "vertices": rect(-width / 2, i * height, width / 2, (i + 1) * height)})
+    return {"name": f"stack{n}", "mu": mu, "live_load": list(live), "blocks": blocks}
+
+
+@pytest.fixture
+def stack():
+    from lamodel.geometry import structure_from_json
+    return structure_from_json(stack_spec())
+
+
+@pytest.fixture(scope="session")
+def wall33():
+    from lamodel.datfile import read_dat
+    return read_dat(INSTANCES / "wall33.dat")
+
+
+def run_script(script, *args, cwd=None, timeout=600):
+    """Run one of scripts/ as a user would, with this interpreter."""
+    import subprocess
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, str(ROOT / "scripts" / script), *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd or ROOT, env=env, timeout=timeout)
