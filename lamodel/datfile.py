@@ -110,6 +110,50 @@ def _scan_duplicates(path: str, text: str):
                 raise InputError(f"{path}, line {lineno}: set {m.group(1)} lists '{sorted(dup)[0]}' twice; expected unique ids")
 
 
+def _scan_row_widths(path: str, text: str):
+    """Pyomo silently drops a trailing value too many, or shifts every following row by
+    one; a user deserves an error naming the row. A table whose number of values is a
+    multiple of its row width is accepted (rows may be wrapped over lines)."""
+    header, rows = None, []
+
+    def check():
+        names = header.replace(":", " ").split()  # an indexed table ('VERTICES: vx vy') has a 2-part key
+        width = len(names) + 1
+        if sum(len(t) for _, t in rows) % width:
+            lineno, tokens = next(((n, t) for n, t in rows if len(t) != width), rows[-1])
+            values = names[1:] if header.strip().startswith("VERTICES") else names
+            raise InputError(f"{path}, line {lineno}: row '{' '.join(tokens[:width - len(values)])}' of the table of "
+                             f"{', '.join(values)} has {len(tokens)} entries; expected {width} "
+                             "(the key and one value per column)")
+
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        m = re.match(r"param\s*:(.*):=\s*(.*)$", line)
+        if m:
+            header, rows, line = m.group(1), [], m.group(2).strip()
+        if header is None or not line:
+            continue
+        body = line.split(";", 1)[0].split()
+        if body:
+            rows.append((lineno, body))
+        if ";" in line:
+            if rows:
+                check()
+            header = None
+
+
+def _unknown_name(path: str, text: str, name: str) -> str:
+    """The message for data given to a parameter the model does not declare."""
+    where = path
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0]
+        if line.strip().startswith("param") and re.search(rf"(?<![\w.]){re.escape(name)}(?![\w.])", line.split(":=")[0]):
+            where = f"{path}, line {lineno}"
+            break
+    known = ", ".join((*BLOCK_PARAMS, *CONTACT_PARAMS, "vx", "vy"))
+    return f"{where}: unknown parameter '{name}'; expected only the parameters {known}"
+
+
 def read_dat(path) -> Structure:
     """Read a Pyomo .dat file into a validated Structure (InputError on anything wrong)."""
     from pyomo.environ import DataPortal
@@ -123,11 +167,15 @@ def read_dat(path) -> Structure:
     except OSError as exc:
         raise InputError(f"{path}: cannot read the file ({exc.strerror}); expected a Pyomo .dat instance") from None
     _scan_duplicates(path, text)
+    _scan_row_widths(path, text)
     data = DataPortal(model=create_abstract_model())
     try:
-        data.load(filename=path)
+        data.load(filename=path, using="dat")  # by content, whatever the case of the extension
     except Exception as exc:  # Pyomo's parser raises many kinds; all mean a malformed file
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        unknown = re.search(r"has no attribute '([^']+)'", msg)
+        if unknown:  # data for a component the model does not declare
+            raise InputError(_unknown_name(path, text, unknown.group(1))) from None
         raise InputError(f"{path}: not a valid Pyomo .dat instance: {msg}") from None
     name = os.path.splitext(os.path.basename(path))[0]
 
@@ -175,7 +223,15 @@ def read_dat(path) -> Structure:
     polygons = defaultdict(list)
     vx, vy = get_param("vx"), get_param("vy")
     for key in sorted(vx, key=lambda t: (str(t[0]), int(t[1]))):
-        polygons[str(key[0])].append((float(vx[key]), float(vy.get(key, math.nan))))
+        corner = (vx[key], vy.get(key, math.nan))
+        try:
+            corner = tuple(float(v) for v in corner)
+        except (TypeError, ValueError):
+            corner = (math.nan, math.nan)
+        if not all(math.isfinite(v) for v in corner):
+            raise InputError(f"{path}: vertex {key[1]} of '{key[0]}' is ({corner[0]}, {corner[1]}); "
+                             "expected finite numbers vx and vy")
+        polygons[str(key[0])].append(corner)
     structure = Structure(
         name=name, blocks=blocks,
         centroid=np.column_stack([bcols["x"], bcols["y"]]),

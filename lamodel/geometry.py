@@ -224,7 +224,10 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
         mu=np.minimum(mus[ia], mus[ib]),
         polygons={b: p for b, p in zip(ids, polygons)},
     )
-    return structure.validate()
+    try:
+        return structure.validate()
+    except InputError as exc:  # name the file, not the structure ("structure 'x': ...")
+        raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
 
 
 # ====================================================================== polygons
