@@ -49,6 +49,8 @@ def solve_parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
     p.add_argument("--pop-size", type=_positive_int, default=12, help="GA population (default 12)")
     p.add_argument("--generations", type=_positive_int, default=6, help="GA generations (default 6)")
+    p.add_argument("--solver", default="lamodel_ipopt", choices=("lamodel_ipopt", "ipopt"),
+                   help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
     p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
     p.add_argument("--no-plot", action="store_true", help="draw no picture")
     p.add_argument("--quiet", action="store_true", help="print only the one-line result")
@@ -111,7 +113,7 @@ def _solve(args) -> int:
     out = Path(args.out) if args.out else Path("results") / structure.name
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
                            pop_size=max(args.pop_size, 2), generations=max(args.generations, 1),
-                           progress=not args.quiet)
+                           solver=args.solver, progress=not args.quiet)
     outcome = solve(structure, options)
     results = outcome_results(outcome)
     results.write(out)

@@ -56,6 +56,7 @@ class SolveOptions:
     chain: int = 4                 # fixed-point LP steps per fitness evaluation
     xi_factor: float = 100.0
     ipopt_options: dict = field(default_factory=dict)
+    solver: str = "lamodel_ipopt"  # or "ipopt": Pyomo's interface to an ipopt executable on PATH
     progress: bool = False
 
 
@@ -124,7 +125,9 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     deadline = None if opt.time_limit is None else t0 + opt.time_limit
     out_of_time = (lambda: False) if deadline is None else (lambda: time.perf_counter() > deadline)
     structure.validate()
-    lps = LimitLPs(structure)
+    _check_solver(opt)
+    lps = LimitLPs(structure)                     # tight tolerances: what is reported
+    screen = LimitLPs(structure, tolerance=None)  # HiGHS defaults: the GA's many LPs
     runs: list[Run] = []
 
     def finish(best, status, message, alpha_assoc=np.nan):
@@ -138,13 +141,17 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     if not assoc.ok:
         return finish(None, "not_certified", f"the associative LP failed ({assoc.status})")
     alpha_assoc = assoc.alpha
-    archive = _Archive()
+    archive = _Archive()   # states certified by the screening LPs
+    final = _Archive()     # states certified (again) with tight tolerances
     pool = _start_pool(structure, opt) if opt.starts > 0 else None
     try:
         # ---- GA over cohesions, scored by certified LP states
         ga_start = time.perf_counter()
-        n_lp0 = lps.n_solves
         c_ref = reference_cohesion(structure, lps.split(assoc.x)[0])
+
+        from tqdm import tqdm
+        bar = tqdm(total=opt.pop_size * opt.generations, desc="GA + LP", unit="genome", leave=False,
+                   disable=not opt.progress)
 
         def fitness(g):
             """Least certified alpha along a short chain of the fixed-point map
@@ -152,21 +159,22 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
             state (the seed's second theorem). Only the last steps are certified (measured:
             the first steps of a chain almost never are, and proving that costs most), and
             each certified state is descended. Without one: the LP value plus a penalty."""
+            bar.update()
             c, best, fallback = g * c_ref, np.inf, alpha_assoc + 10.0
             for step in range(opt.chain):
-                res, u, xi = lps.cohesive(c)
+                res, u, xi = screen.cohesive(c)
                 if not res.ok:
                     break
                 fallback = min(fallback, res.alpha + 1.0)  # worse than any certified state
                 if step >= opt.chain - 2:
-                    state = certify_flow(lps, u, xi, source="ga")
+                    state = certify_flow(screen, u, xi, source="ga")
                     if state is not None and state.flow.tobytes() not in archive.states:
-                        state = descend(lps, state)
+                        state = descend(screen, state)
                         archive.add(state)
                         best = min(best, state.alpha)
                     elif state is not None:
                         best = min(best, archive.states[state.flow.tobytes()].alpha)
-                c = -structure.mu * lps.split(res.x)[0]
+                c = -structure.mu * screen.split(res.x)[0]
             return best if np.isfinite(best) else fallback
 
         from .ga import genetic_search
@@ -176,29 +184,53 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
         initial[0] = 1.0
         genetic_search(fitness, structure.n_contacts, initial=initial, upper=3.0, pop_size=opt.pop_size,
                        generations=opt.generations, seed=opt.seed, out_of_time=out_of_time)
-        # local descent of the best distinct states (monotone: alpha never increases)
+        bar.close()
+        # the best distinct states again with tight tolerances, and descended
         for state in archive.best(max(opt.starts, 3)):
-            archive.add(descend(lps, state))
-        best = archive.best(1)[0] if archive.states else None
+            final.add(_recertify(lps, state))
+        best = final.best(1)[0] if final.states else None
         runs.append(Run(0, "ga+lp", np.nan, "certified" if best else "not_certified",
-                        best.alpha if best else np.nan, lps.n_solves - n_lp0, time.perf_counter() - ga_start))
+                        best.alpha if best else np.nan, screen.n_solves + lps.n_solves,
+                        time.perf_counter() - ga_start))
 
         # ---- Ipopt multistart on eq. (5) from the best distinct states
         if pool is not None and not out_of_time():
-            starts = archive.best(opt.starts)
+            starts = final.best(opt.starts)
             if not starts:  # nothing certified yet: start from the associative statics
                 starts = [_associative_start(lps, assoc)]
-            _ipopt_multistart(pool, structure, lps, starts, archive, runs, opt, deadline)
+            _ipopt_multistart(pool, structure, lps, starts, final, runs, opt, deadline)
     except KeyboardInterrupt:
-        best = archive.best(1)[0] if archive.states else None
+        best = final.best(1)[0] if final.states else None
         return finish(best, "interrupted", "interrupted: the best certified state so far is reported", alpha_assoc)
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
-    best = archive.best(1)[0] if archive.states else None
+    best = final.best(1)[0] if final.states else None
     if best is None:
         return finish(None, "not_certified", "no start reached a certified collapse state", alpha_assoc)
     return finish(best, "certified", "certified collapse state", alpha_assoc)
+
+
+def _check_solver(opt):
+    from .errors import InputError
+    if opt.solver == "lamodel_ipopt":
+        return
+    if opt.solver != "ipopt":
+        raise InputError(f"solver '{opt.solver}' is unknown; expected 'lamodel_ipopt' or 'ipopt'")
+    if opt.starts > 0:
+        from pyomo.environ import SolverFactory
+        if not SolverFactory("ipopt").available(exception_flag=False):
+            raise InputError("solver 'ipopt' asks for an ipopt executable on PATH and none was found; "
+                             "expected the default 'lamodel_ipopt' (Debian's libipopt through cyipopt)")
+
+
+def _recertify(lps, state):
+    """A state found with screening tolerances, certified again with tight ones and
+    descended; None if it does not survive."""
+    tight = certify_flow(lps, state.u, state.xi, state.source)
+    if tight is None:
+        tight = certify(lps, state.N, state.V, state.M, state.alpha, state.u, state.xi, state.source)
+    return None if tight is None else descend(lps, tight)
 
 
 def _associative_start(lps, assoc):
@@ -211,13 +243,13 @@ def _associative_start(lps, assoc):
 _WORKER = {}
 
 
-def _init_worker(structure: Structure, xi_factor: float):
+def _init_worker(structure: Structure, xi_factor: float, solver: str):
     """Build the Pyomo model of eq. (5) and compile it for Ipopt, once per worker."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     from .bridge import QuadraticNLP
     from .model import create_model
     m = create_model(structure, xi_factor=xi_factor)
-    _WORKER.update(model=m, nlp=QuadraticNLP(m), structure=structure)
+    _WORKER.update(model=m, nlp=QuadraticNLP(m) if solver == "lamodel_ipopt" else None, structure=structure)
 
 
 def _warm(_):
@@ -231,7 +263,7 @@ def _start_pool(structure, opt):
     # while the GA runs here.
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                               initargs=(structure, opt.xi_factor))
+                               initargs=(structure, opt.xi_factor, opt.solver))
     for _ in range(workers):
         pool.submit(_warm, None)
     return pool
@@ -261,6 +293,15 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
                 message = "time limit"
                 break
             opts["max_cpu_time"] = float(left)
+        if nlp is None:  # Pyomo's own interface to an ipopt executable (warm start: primal only)
+            from pyomo.environ import SolverFactory
+            opts = {k: v for k, v in opts.items() if not k.startswith("warm_start")}
+            res = SolverFactory("ipopt").solve(model, options=opts, load_solutions=False)
+            message = str(res.solver.termination_condition)
+            if len(res.solution) == 0:
+                break
+            model.solutions.load_from(res)
+            continue
         out = nlp.solve(x0=x, options=opts, load=True, multipliers=mult)
         iterations += out["iterations"]
         message = IPOPT_STATUS.get(out["status"], f"ipopt status {out['status']}")
@@ -284,8 +325,11 @@ def _ipopt_multistart(pool, structure, lps, starts, archive, runs, opt, deadline
         left = None if deadline is None else deadline - time.perf_counter()
         fut = pool.submit(_ipopt_task, i, st, EPSILON_LADDER, opt.ipopt_options, left)
         futures[fut] = (i, st)
+    from tqdm import tqdm
+    bar = tqdm(total=len(futures), desc="Ipopt on eq. 5", unit="start", leave=False, disable=not opt.progress)
     try:
         for fut in as_completed(futures, timeout=None if deadline is None else max(deadline - time.perf_counter(), 0) + 30):
+            bar.update()
             i, st = futures[fut]
             source = f"ipopt from {st.source} (alpha {st.alpha:.6f})"
             try:
@@ -303,6 +347,7 @@ def _ipopt_multistart(pool, structure, lps, starts, archive, runs, opt, deadline
             runs.append(Run(i, source, alpha, message, state.alpha if state else np.nan, iterations, seconds))
     except TimeoutError:
         pass
+    bar.close()
     for fut, (i, st) in futures.items():
         if not fut.done():
             fut.cancel()
