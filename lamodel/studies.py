@@ -1,0 +1,207 @@
+"""Studies built on the driver: variants of a structure, a friction study, the seed's Table 1.
+
+These are the reusable parts of ``examples/friction_study.py``, ``examples/tie_force.py``
+and ``scripts/table1.py``. Every multiplier they report is a certified collapse
+multiplier of :func:`lamodel.driver.solve` (NaN when the driver certified none), so it is
+the least collapse multiplier lamodel *found*: an upper bound on the true minimum α_c.
+
+Variants of a structure are deep copies; the structure passed in is never modified.
+"""
+from __future__ import annotations
+
+import copy
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .certify import contact_modes
+from .driver import Outcome, SolveOptions, solve
+from .errors import InputError
+from .structure import Structure
+
+#: The repository checkout this module belongs to (instances/, references/).
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Columns of :func:`friction_study`.
+FRICTION_COLUMNS = ("mu", "alpha_c", "alpha_associative", "certified", "n_sliding", "n_hinging", "seconds",
+                    "status")
+
+#: Published columns of the seed's Table 1 (references/table1.csv).
+TABLE1_REFERENCE_COLUMNS = ("wall", "n_blocks", "ferris_tin_loi_2", "gilbert_4", "mihai_5", "seed")
+
+
+# ------------------------------------------------------------------------- variants
+def with_friction(structure: Structure, mu: float) -> Structure:
+    """A copy of the structure with the friction coefficient mu on every contact."""
+    mu = float(mu)
+    if not np.isfinite(mu) or mu < 0:
+        raise InputError(f"friction coefficient {mu}: expected a finite number >= 0")
+    s = copy.deepcopy(structure)
+    s.mu = np.full(s.n_contacts, mu)
+    s.name = f"{structure.name}_mu{mu:g}"
+    return s
+
+
+def with_dead_force(structure: Structure, block: str, fx: float = 0.0, fy: float = 0.0,
+                    name: str | None = None) -> Structure:
+    """A copy of the structure with a constant force (fx, fy) added at the centroid of
+    ``block`` to its dead load f0 (e.g. a tie force found by a user's study)."""
+    index = structure.block_index()
+    if block not in index:
+        raise InputError(f"structure '{structure.name}': no movable block '{block}'; expected one of "
+                         f"{', '.join(structure.blocks[:8])}{', ...' if structure.n_blocks > 8 else ''}")
+    s = copy.deepcopy(structure)
+    s.dead[index[block]] += (float(fx), float(fy))
+    s.name = name or f"{structure.name}_{block}_force"
+    return s
+
+
+# ------------------------------------------------------------------------- one solve
+def mode_counts(structure: Structure, xi) -> dict:
+    """Contacts that slip (modes sliding, sliding+hinging), rotate (hinging,
+    sliding+hinging) and open, in a mechanism's flow xi."""
+    modes = contact_modes(structure, xi)
+    return {"n_sliding": sum(m in ("sliding", "sliding+hinging") for m in modes),
+            "n_hinging": sum(m in ("hinging", "sliding+hinging") for m in modes),
+            "n_open": sum(m == "open" for m in modes)}
+
+
+def outcome_row(outcome: Outcome) -> dict:
+    """The certified multiplier, the associative bound and the mechanism's mode counts."""
+    best = outcome.best
+    row = {"alpha_c": best.alpha if best is not None else np.nan,
+           "alpha_associative": outcome.alpha_associative,
+           "certified": best is not None}
+    if best is not None:
+        row.update(mode_counts(outcome.structure, best.xi))
+    else:
+        row.update(n_sliding=0, n_hinging=0, n_open=0)
+    row.update(seconds=outcome.wall_time_s, status=outcome.status)
+    return row
+
+
+# ------------------------------------------------------------------------- friction
+def friction_study(structure: Structure, mus, options: SolveOptions | None = None, progress=None) -> pd.DataFrame:
+    """Certified collapse multiplier of the structure for each friction coefficient.
+
+    One :func:`lamodel.driver.solve` per mu (the same options each time) on a copy with
+    that mu on every contact. Columns: mu, alpha_c (NaN if none was certified),
+    alpha_associative, certified, n_sliding, n_hinging (contacts that slip / rotate in the
+    mechanism; a contact doing both counts in both), seconds, status.
+    ``progress(row)`` is called after each solve, if given.
+    """
+    mus = [float(m) for m in mus]
+    if not mus:
+        raise InputError("friction_study: no friction coefficients given; expected at least one mu")
+    rows = []
+    for mu in mus:
+        outcome = solve(with_friction(structure, mu), options or SolveOptions())
+        row = {"mu": mu, **outcome_row(outcome)}
+        rows.append(row)
+        if progress is not None:
+            progress(row)
+    return pd.DataFrame(rows, columns=list(FRICTION_COLUMNS))
+
+
+def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str:
+    """alpha_c and the associative bound against mu (matplotlib, Agg); returns the path."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(os.fspath(path))
+    if path.parent and not path.parent.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    try:
+        ok = df["certified"].astype(bool)
+        ax.plot(df["mu"], df["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
+        ax.plot(df.loc[ok, "mu"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", label=r"$\alpha_c$ (certified)")
+        if (~ok).any():
+            for mu in df.loc[~ok, "mu"]:
+                ax.axvline(mu, color="#c0392b", linestyle=":", linewidth=0.8)
+        lo, hi = float(df["mu"].min()), float(df["mu"].max())
+        ax.plot([lo, hi], [lo, hi], ":", color="#1f5fbf", linewidth=0.9, label=r"$\alpha = \mu$")
+        ax.set_xlabel(r"friction coefficient $\mu$")
+        ax.set_ylabel(r"load multiplier $\alpha$")
+        ax.set_title(title or r"collapse multiplier against $\mu$")
+        ax.grid(True, linewidth=0.3)
+        ax.legend(loc="best", fontsize="small")
+        fig.tight_layout()
+        _atomic(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png"))
+    finally:
+        plt.close(fig)
+    return str(path)
+
+
+# ------------------------------------------------------------------------- Table 1
+def read_table1(path=None) -> pd.DataFrame:
+    """The seed's Table 1 (references/table1.csv)."""
+    path = Path(path) if path is not None else ROOT / "references" / "table1.csv"
+    try:
+        ref = pd.read_csv(path)
+    except (OSError, pd.errors.ParserError) as exc:
+        raise InputError(f"{path}: cannot read the reference table ({exc})") from None
+    missing = [c for c in TABLE1_REFERENCE_COLUMNS if c not in ref.columns]
+    if missing:
+        raise InputError(f"{path}: column '{missing[0]}' is missing; expected {', '.join(TABLE1_REFERENCE_COLUMNS)}")
+    return ref[list(TABLE1_REFERENCE_COLUMNS)]
+
+
+def table1(options: SolveOptions | None = None, instances=None, reference=None, progress=None) -> pd.DataFrame:
+    """The seed's Table 1 with lamodel's certified multiplier beside the published ones.
+
+    Each wall of the reference table is read from ``instances/<wall>.dat`` and solved with
+    :func:`lamodel.driver.solve`. Columns: the reference columns, then lamodel (certified
+    alpha, NaN if none), alpha_associative, certified, seconds.
+    """
+    from .datfile import read_dat
+
+    instances = Path(instances) if instances is not None else ROOT / "instances"
+    ref = read_table1(reference)
+    rows = []
+    for rec in ref.to_dict("records"):
+        structure = read_dat(instances / f"{rec['wall']}.dat")
+        if structure.n_blocks != int(rec["n_blocks"]):
+            raise InputError(f"{instances / (rec['wall'] + '.dat')}: {structure.n_blocks} blocks; "
+                             f"the reference table says {rec['n_blocks']}")
+        t = time.perf_counter()
+        outcome = solve(structure, options or SolveOptions())
+        best = outcome.best
+        row = dict(rec, lamodel=best.alpha if best is not None else np.nan,
+                   alpha_associative=outcome.alpha_associative, certified=best is not None,
+                   seconds=time.perf_counter() - t)
+        rows.append(row)
+        if progress is not None:
+            progress(row)
+    return pd.DataFrame(rows, columns=[*TABLE1_REFERENCE_COLUMNS, "lamodel", "alpha_associative", "certified",
+                                       "seconds"])
+
+
+# ------------------------------------------------------------------------- files
+def _atomic(path: Path, write):
+    """Call write(tmp) on a temporary file in path's folder, then rename it over path."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def write_csv(df: pd.DataFrame, path) -> str:
+    """Write a table as CSV atomically (a reader never sees a partial file); folders are
+    created. Floats keep 17 significant digits."""
+    path = Path(os.fspath(path))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format="%.17g"))
+    return str(path)
