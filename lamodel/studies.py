@@ -200,8 +200,8 @@ def _atomic(path: Path, write):
 
 def write_csv(df: pd.DataFrame, path) -> str:
     """Write a table as CSV atomically (a reader never sees a partial file); folders are
-    created. Floats keep 17 significant digits."""
+    created. Floats are written in their shortest round-trip form (read back exactly)."""
     path = Path(os.fspath(path))
     path.parent.mkdir(parents=True, exist_ok=True)
-    _atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format="%.17g"))
+    _atomic(path, lambda tmp: df.to_csv(tmp, index=False))
     return str(path)
