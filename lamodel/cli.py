@@ -39,16 +39,21 @@ def _positive_float(text):
 
 
 def solve_parser() -> argparse.ArgumentParser:
+    from .driver import SolveOptions
+
     p = _Parser(prog="solve.py", description="Minimum collapse multiplier of a frictional block assembly "
                                               "(seed eq. 5), certified by LP.")
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
     p.add_argument("--out", help="result folder (default: results/<instance name>/)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_positive_int, default=2, help="Ipopt solves of eq. 5 (default 2; 0: LPs only)")
+    p.add_argument("--starts", type=_positive_int, default=SolveOptions.starts,
+                   help=f"Ipopt solves of eq. 5 (default {SolveOptions.starts}; 0: LPs only)")
     p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
-    p.add_argument("--pop-size", type=_positive_int, default=12, help="GA population (default 12)")
-    p.add_argument("--generations", type=_positive_int, default=6, help="GA generations (default 6)")
+    p.add_argument("--pop-size", type=_positive_int, default=SolveOptions.pop_size,
+                   help=f"GA population (default {SolveOptions.pop_size})")
+    p.add_argument("--generations", type=_positive_int, default=SolveOptions.generations,
+                   help=f"GA generations (default {SolveOptions.generations})")
     p.add_argument("--solver", default="lamodel_ipopt", choices=("lamodel_ipopt", "ipopt"),
                    help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
     p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")

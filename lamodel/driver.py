@@ -51,8 +51,8 @@ class SolveOptions:
     starts: int = 2                # Ipopt solves of eq. (5)
     workers: int | None = None     # worker processes (default: all cores)
     time_limit: float | None = None
-    pop_size: int = 12
-    generations: int = 6
+    pop_size: int = 10
+    generations: int = 5
     chain: int = 4                 # fixed-point LP steps per fitness evaluation
     xi_factor: float = 100.0
     ipopt_options: dict = field(default_factory=dict)
