@@ -28,10 +28,12 @@ multiplier of the tied wall. Only that number says whether the target is met, an
 it is itself the least multiplier lamodel found (an upper bound on the true minimum).
 
 On wall33 the least certified multiplier of the tied wall rises with T (0.66 at T = 0.3)
-up to about 0.667 near T = 0.5; from T of about 0.55 on, the tie lifts b33 off the half
-block b28 below it, which then slides out alone at alpha = mu = 0.65. A target above
-about 0.667 (e.g. 0.70) is out of reach with this single tie, whatever T: Ipopt finds
-T = 1.5 with alpha = 0.70, and the check finds the collapse state at 0.65.
+(the whole wall sliding on the ground: alpha = 0.65 + T / 30) up to about 0.667 near
+T = 0.5; from T of about 0.55 on, the statics can hold b33 off the half block b28 below
+it, and a half block at the right end (b28, or b17 lower down: the same multiplier) slides
+out alone, unloaded, at alpha = mu = 0.65. A target above about 0.667 (e.g. 0.70) is out
+of reach with this single tie, whatever T: Ipopt finds T = 1.5 with alpha = 0.70, and the
+check finds a collapse state at 0.65.
 
 Exit status: 0 target met (certified), 1 not met, 2 bad arguments.
 """
