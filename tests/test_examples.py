@@ -21,8 +21,9 @@ def run_example(script, *args, cwd=None, timeout=600):
                           text=True, cwd=cwd or ROOT, env=env, timeout=timeout)
 
 
-RESULT = re.compile(r"result: tie force T = (?P<T>[-0-9.e]+) at (?P<block>\w+), cost [-0-9.e]+; certified alpha of "
-                    r"the tied wall = (?P<alpha>[-0-9.e]+), target (?P<target>[-0-9.e]+): (?P<verdict>target (NOT )?met)")
+RESULT = re.compile(r"result: tie force T = (?P<T>[-0-9.e]+) at (?P<block>\w+), cost [-0-9.e]+; "
+                    r"certified alpha of the tied wall = (?P<alpha>[-0-9.e]+), target (?P<target>[-0-9.e]+): "
+                    r"(?P<verdict>target (NOT )?met)")
 
 
 def _result(proc):
