@@ -169,6 +169,9 @@ def read_dat(path) -> Structure:
     _scan_duplicates(path, text)
     _scan_row_widths(path, text)
     data = DataPortal(model=create_abstract_model())
+    from pyomo.dataportal import parse_datacmds
+    if getattr(parse_datacmds, "dat_lexer", None) is not None:
+        parse_datacmds.dat_lexer.lineno = 1  # Pyomo keeps counting lines from the previous file
     try:
         data.load(filename=path, using="dat")  # by content, whatever the case of the extension
     except Exception as exc:  # Pyomo's parser raises many kinds; all mean a malformed file
@@ -176,7 +179,8 @@ def read_dat(path) -> Structure:
         unknown = re.search(r"has no attribute '([^']+)'", msg)
         if unknown:  # data for a component the model does not declare
             raise InputError(_unknown_name(path, text, unknown.group(1))) from None
-        raise InputError(f"{path}: not a valid Pyomo .dat instance: {msg}") from None
+        raise InputError(f"{path}: not a valid Pyomo .dat instance: {msg}; expected Pyomo data statements "
+                         "('set NAME := ... ;', 'param: NAMES := ... ;')") from None
     name = os.path.splitext(os.path.basename(path))[0]
 
     def get_set(key, required=True):
@@ -215,7 +219,8 @@ def read_dat(path) -> Structure:
             out.append(v)
         extra = set(map(str, table)) - set(ids)
         if extra:
-            raise InputError(f"{path}: parameter {key} is given for '{sorted(extra)[0]}', which is not in the set of {kind}s")
+            raise InputError(f"{path}: parameter {key} is given for '{sorted(extra)[0]}', which is not in the set of "
+                             f"{kind}s; expected rows only for the ids of set {kind.upper()}S")
         return out
 
     bcols = {k: column(k, blocks, "block") for k in BLOCK_PARAMS}
