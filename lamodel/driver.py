@@ -161,6 +161,8 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
             each certified state is descended. Without one: the LP value plus a penalty."""
             bar.update()
             c, best, fallback = g * c_ref, np.inf, alpha_assoc + 10.0
+            if out_of_time():  # the rest of this generation is skipped, then the GA stops
+                return fallback
             for step in range(opt.chain):
                 res, u, xi = screen.cohesive(c)
                 if not res.ok:
