@@ -147,7 +147,8 @@ def _unknown_name(path: str, text: str, name: str) -> str:
     where = path
     for lineno, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0]
-        if line.strip().startswith("param") and re.search(rf"(?<![\w.]){re.escape(name)}(?![\w.])", line.split(":=")[0]):
+        declared = line.split(":=")[0]
+        if line.strip().startswith("param") and re.search(rf"(?<![\w.]){re.escape(name)}(?![\w.])", declared):
             where = f"{path}, line {lineno}"
             break
     known = ", ".join((*BLOCK_PARAMS, *CONTACT_PARAMS, "vx", "vy"))
