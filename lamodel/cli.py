@@ -24,17 +24,26 @@ class _Usage(Exception):
     pass
 
 
-def _positive_int(text):
-    v = int(text)
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text}")
-    return v
+def _whole(minimum):
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            v = None
+        if v is None or v < minimum:
+            raise argparse.ArgumentTypeError(f"expected a whole number >= {minimum}, got '{text}'")
+        return v
+    parse.__name__ = f"whole number >= {minimum}"
+    return parse
 
 
 def _positive_float(text):
-    v = float(text)
-    if not v > 0:
-        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text}")
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not v > 0 or v == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a number of seconds > 0, got '{text}'")
     return v
 
 
@@ -46,13 +55,13 @@ def solve_parser() -> argparse.ArgumentParser:
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
     p.add_argument("--out", help="result folder (default: results/<instance name>/)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_positive_int, default=SolveOptions.starts,
+    p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts,
                    help=f"Ipopt solves of eq. 5 (default {SolveOptions.starts}; 0: LPs only)")
-    p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
-    p.add_argument("--pop-size", type=_positive_int, default=SolveOptions.pop_size,
+    p.add_argument("--pop-size", type=_whole(2), default=SolveOptions.pop_size,
                    help=f"GA population (default {SolveOptions.pop_size})")
-    p.add_argument("--generations", type=_positive_int, default=SolveOptions.generations,
+    p.add_argument("--generations", type=_whole(1), default=SolveOptions.generations,
                    help=f"GA generations (default {SolveOptions.generations})")
     p.add_argument("--solver", default="lamodel_ipopt", choices=("lamodel_ipopt", "ipopt"),
                    help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
@@ -67,6 +76,8 @@ def load_structure(path: str):
     """A Structure from a .dat or a .json file (InputError otherwise)."""
     from .errors import InputError
     ext = Path(path).suffix.lower()
+    if Path(path).is_dir():
+        raise InputError(f"{path}: is a folder; expected a .dat instance or a .json geometry file")
     if not Path(path).is_file():
         raise InputError(f"{path}: no such file; expected a .dat instance or a .json geometry")
     if ext == ".json":
@@ -109,19 +120,31 @@ def _solve(args) -> int:
     import pandas as pd
 
     from .driver import SolveOptions, solve
+    from .errors import InputError
     from .report import outcome_results
 
-    with warnings.catch_warnings():
-        if args.quiet:
-            warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         structure = load_structure(args.instance)
+    for w in caught:  # one line each, without Python's source-line echo
+        if not args.quiet and issubclass(w.category, UserWarning):
+            print(f"solve.py: warning: {w.message}", file=sys.stderr)
     out = Path(args.out) if args.out else Path("results") / structure.name
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: exists and is not a folder; expected a folder for the result files")
+    for name in ("summary.csv", "blocks.csv", "contacts.csv", "runs.csv"):
+        if (out / name).is_dir():
+            raise InputError(f"{out / name}: is a folder; expected room for the result file")
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
-                           pop_size=max(args.pop_size, 2), generations=max(args.generations, 1),
+                           pop_size=args.pop_size, generations=args.generations,
                            solver=args.solver, progress=not args.quiet)
     outcome = solve(structure, options)
     results = outcome_results(outcome)
-    results.write(out)
+    try:
+        results.write(out)
+    except OSError as exc:
+        print(f"solve.py: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
+        return 1
     picture = None
     if not args.no_plot:
         picture = _draw(structure, outcome, args.plot or out / "mechanism.png")
@@ -130,7 +153,7 @@ def _solve(args) -> int:
             print(results.to_text())
         print(f"results written to {out}/" + (f", picture {picture}" if picture else ""))
     if outcome.certified:
-        print(f"{structure.name}: alpha = {outcome.best.alpha:.6f} (certified collapse state; associative bound "
+        print(f"{structure.name}: alpha = {max(outcome.best.alpha, 0.0):.6f} (certified collapse state; associative bound "
               f"{outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
     else:
         print(f"{structure.name}: no certified collapse multiplier: {outcome.message}")

@@ -129,88 +129,128 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     lps = LimitLPs(structure)                     # tight tolerances: what is reported
     screen = LimitLPs(structure, tolerance=None)  # HiGHS defaults: the GA's many LPs
     runs: list[Run] = []
+    final = _Archive()     # states certified with tight tolerances
 
-    def finish(best, status, message, alpha_assoc=np.nan):
+    def finish(status, message, alpha_assoc=np.nan):
+        best = final.best(1)[0] if final.states else None
+        runs.sort(key=lambda r: r.start)
         return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed)
 
-    assoc = lps.associative()
-    if assoc.status == "infeasible":
-        return finish(None, "unstable", "unstable under dead load: no statically admissible state at alpha = 0")
-    if assoc.status.startswith("unbounded"):
-        return finish(None, "no_collapse", "no collapse for this live load: the load multiplier is unbounded")
-    if not assoc.ok:
-        return finish(None, "not_certified", f"the associative LP failed ({assoc.status})")
-    alpha_assoc = assoc.alpha
-    archive = _Archive()   # states certified by the screening LPs
-    final = _Archive()     # states certified (again) with tight tolerances
+    status, message, assoc = _classify(structure, lps, final)
+    if status in ("unstable", "no_collapse", "failed"):
+        return finish("not_certified" if status == "failed" else status, message)
+    alpha_assoc = assoc.alpha if assoc is not None else np.inf
     pool = _start_pool(structure, opt) if opt.starts > 0 else None
+    ga_start, lp0 = time.perf_counter(), lps.n_solves
     try:
-        # ---- GA over cohesions, scored by certified LP states
-        ga_start = time.perf_counter()
-        c_ref = reference_cohesion(structure, lps.split(assoc.x)[0])
-
-        from tqdm import tqdm
-        bar = tqdm(total=opt.pop_size * opt.generations, desc="GA + LP", unit="genome", leave=False,
-                   disable=not opt.progress)
-
-        def fitness(g):
-            """Least certified alpha along a short chain of the fixed-point map
-            c -> -mu N(LP_c), started from c = g * c_ref: a fixed point is a collapse
-            state (the seed's second theorem). Only the last steps are certified (measured:
-            the first steps of a chain almost never are, and proving that costs most), and
-            each certified state is descended. Without one: the LP value plus a penalty."""
-            bar.update()
-            c, best, fallback = g * c_ref, np.inf, alpha_assoc + 10.0
-            if out_of_time():  # the rest of this generation is skipped, then the GA stops
-                return fallback
-            for step in range(opt.chain):
-                res, u, xi = screen.cohesive(c)
-                if not res.ok:
-                    break
-                fallback = min(fallback, res.alpha + 1.0)  # worse than any certified state
-                if step >= opt.chain - 2:
-                    state = certify_flow(screen, u, xi, source="ga")
-                    if state is not None and state.flow.tobytes() not in archive.states:
-                        state = descend(screen, state)
-                        archive.add(state)
-                        best = min(best, state.alpha)
-                    elif state is not None:
-                        best = min(best, archive.states[state.flow.tobytes()].alpha)
-                c = -structure.mu * screen.split(res.x)[0]
-            return best if np.isfinite(best) else fallback
-
-        from .ga import genetic_search
-        rng = np.random.default_rng(opt.seed)
-        # the associative cohesions and log-normal perturbations of them
-        initial = np.exp(rng.normal(0.0, 0.3, size=(opt.pop_size, structure.n_contacts)))
-        initial[0] = 1.0
-        genetic_search(fitness, structure.n_contacts, initial=initial, upper=3.0, pop_size=opt.pop_size,
-                       generations=opt.generations, seed=opt.seed, out_of_time=out_of_time)
-        bar.close()
-        # the best distinct states again with tight tolerances, and descended
-        for state in archive.best(max(opt.starts, 3)):
-            final.add(_recertify(lps, state))
+        if assoc is not None:
+            _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time)
         best = final.best(1)[0] if final.states else None
-        runs.append(Run(0, "ga+lp", np.nan, "certified" if best else "not_certified",
-                        best.alpha if best else np.nan, screen.n_solves + lps.n_solves,
-                        time.perf_counter() - ga_start))
-
+        runs.append(Run(0, "ga+lp", np.nan, ("certified" if best else "not_certified")
+                        + (", time limit" if out_of_time() else ""), best.alpha if best else np.nan,
+                        screen.n_solves + lps.n_solves - lp0, time.perf_counter() - ga_start))
         # ---- Ipopt multistart on eq. (5) from the best distinct states
-        if pool is not None and not out_of_time():
-            starts = final.best(opt.starts)
-            if not starts:  # nothing certified yet: start from the associative statics
-                starts = [_associative_start(lps, assoc)]
-            _ipopt_multistart(pool, structure, lps, starts, final, runs, opt, deadline)
+        if pool is not None:
+            starts = final.best(opt.starts) or ([_associative_start(lps, assoc)] if assoc is not None else [])
+            if out_of_time():
+                runs.extend(Run(i, "ipopt", status="time limit: not started") for i in range(1, opt.starts + 1))
+            elif starts:
+                _ipopt_multistart(pool, structure, lps, starts, final, runs, opt, deadline)
     except KeyboardInterrupt:
-        best = final.best(1)[0] if final.states else None
-        return finish(best, "interrupted", "interrupted: the best certified state so far is reported", alpha_assoc)
+        if not any(r.start == 0 for r in runs):
+            best = final.best(1)[0] if final.states else None
+            runs.append(Run(0, "ga+lp", np.nan, "interrupted", best.alpha if best else np.nan,
+                            screen.n_solves + lps.n_solves - lp0, time.perf_counter() - ga_start))
+        return finish("interrupted", "interrupted: the best certified state so far is reported", alpha_assoc)
     finally:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
-    best = final.best(1)[0] if final.states else None
-    if best is None:
-        return finish(None, "not_certified", "no start reached a certified collapse state", alpha_assoc)
-    return finish(best, "certified", "certified collapse state", alpha_assoc)
+    limit = " (the time limit stopped the search)" if out_of_time() else ""
+    if not final.states:
+        return finish("not_certified", "no start reached a certified collapse state" + limit, alpha_assoc)
+    return finish("certified", "certified collapse state" + limit, alpha_assoc)
+
+
+def _classify(structure, lps, final):
+    """Can the structure stand, and can it collapse? Returns (status, message, assoc LP).
+
+    * no statically admissible state at alpha = 0: unstable under dead load;
+    * max alpha over S unbounded: the associative assembly never collapses, but a
+      frictional one still may (e.g. lifting off joints squeezed by friction), so look
+      for a mechanism directly; none at all means no collapse for this live load.
+    """
+    at_rest = lps.statics(None, minimize=True)  # least alpha >= 0 with a statics
+    if at_rest.status == "infeasible" or (at_rest.ok and at_rest.alpha > 1e-9):
+        need = f" (it needs alpha >= {at_rest.alpha:.6g} to stand)" if at_rest.ok else ""
+        return "unstable", "unstable under dead load: no statically admissible state at alpha = 0" + need, None
+    if not at_rest.ok:
+        return "failed", f"the statics LP failed ({at_rest.status})", None
+    assoc = lps.associative()
+    if assoc.ok:
+        return "ok", "", assoc
+    if not assoc.status.startswith("unbounded"):
+        return "failed", f"the associative LP failed ({assoc.status})", None
+    allowed = np.ones(4 * structure.n_contacts, dtype=bool)
+    mres, u, xi = lps.mechanism(allowed, np.zeros(structure.n_contacts), xi_max=structure.xi_bounds())
+    if not mres.ok:
+        return "no_collapse", "no collapse for this live load: no mechanism can follow it", None
+    state = certify_flow(lps, u, xi, source="mechanism LP")
+    if state is not None:
+        final.add(descend(lps, state))
+    return "ok", "", None
+
+
+def _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time):
+    """Step 2 of the module doc: the GA over cohesions, then the best states certified
+    again with tight tolerances and descended into ``final``."""
+    archive = _Archive()  # states certified by the screening LPs
+    alpha_assoc = assoc.alpha
+    c_ref = reference_cohesion(structure, lps.split(assoc.x)[0])
+
+    from tqdm import tqdm
+    bar = tqdm(total=opt.pop_size * opt.generations, desc="GA + LP", unit="genome", leave=False,
+               disable=not opt.progress)
+
+    def fitness(g):
+        """Least certified alpha along a short chain of the fixed-point map
+        c -> -mu N(LP_c), started from c = g * c_ref: a fixed point is a collapse
+        state (the seed's second theorem). Only the last steps are certified (measured:
+        the first steps of a chain almost never are, and proving that costs most), and
+        each certified state is descended. Without one: the LP value plus a penalty."""
+        bar.update()
+        c, best, fallback = g * c_ref, np.inf, alpha_assoc + 10.0
+        if out_of_time():  # the rest of this generation is skipped, then the GA stops
+            return fallback
+        for step in range(opt.chain):
+            res, u, xi = screen.cohesive(c)
+            if not res.ok:
+                break
+            fallback = min(fallback, res.alpha + 1.0)  # worse than any certified state
+            if step >= opt.chain - 2:
+                state = certify_flow(screen, u, xi, source="ga")
+                if state is not None and state.flow.tobytes() not in archive.states:
+                    state = descend(screen, state)
+                    archive.add(state)
+                    best = min(best, state.alpha)
+                elif state is not None:
+                    best = min(best, archive.states[state.flow.tobytes()].alpha)
+            c = -structure.mu * screen.split(res.x)[0]
+        return best if np.isfinite(best) else fallback
+
+    from .ga import genetic_search
+    rng = np.random.default_rng(opt.seed)
+    # the associative cohesions and log-normal perturbations of them
+    initial = np.exp(rng.normal(0.0, 0.3, size=(opt.pop_size, structure.n_contacts)))
+    initial[0] = 1.0
+    try:
+        genetic_search(fitness, structure.n_contacts, initial=initial, upper=3.0, pop_size=opt.pop_size,
+                       generations=opt.generations, seed=opt.seed, out_of_time=out_of_time)
+    finally:
+        bar.close()
+        # the best distinct states again with tight tolerances, and descended (also when
+        # interrupted: what was found is kept)
+        for state in archive.best(max(opt.starts, 3)):
+            final.add(_recertify(lps, state))
 
 
 def _check_solver(opt):
@@ -349,9 +389,15 @@ def _ipopt_multistart(pool, structure, lps, starts, archive, runs, opt, deadline
             runs.append(Run(i, source, alpha, message, state.alpha if state else np.nan, iterations, seconds))
     except TimeoutError:
         pass
-    bar.close()
+    except KeyboardInterrupt:
+        for fut, (i, st) in futures.items():
+            if not any(r.start == i for r in runs):
+                runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="interrupted"))
+        raise
+    finally:
+        bar.close()
     for fut, (i, st) in futures.items():
-        if not fut.done():
+        if not any(r.start == i for r in runs):
             fut.cancel()
             runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="time limit"))
     runs.sort(key=lambda r: r.start)

@@ -335,19 +335,34 @@ class Results:
         file in the same folder, then renamed over its final name (``os.replace``), so a
         reader sees either the old file or the whole new one, never a partial file; if
         anything fails, the temporary files are removed and the old files are untouched.
-        summary.csv is replaced last. Returns the folder path.
+        summary.csv is replaced last. Should a rename fail midway, the files already replaced
+        are restored from hard-link backups, so the folder never mixes two results.
+        Returns the folder path.
         """
         folder = Path(os.fspath(folder))
         folder.mkdir(parents=True, exist_ok=True)
-        temps = {}
+        temps, backups, done = {}, {}, []
         try:
             for table, (name, _, _) in TABLES.items():
                 temps[name] = _write_temp(folder, name, getattr(self, table))
             for name in ("blocks.csv", "contacts.csv", "runs.csv", "summary.csv"):
-                os.replace(temps[name], folder / name)
-                del temps[name]
+                if (folder / name).is_file():
+                    backups[name] = folder / f".{name}.{os.getpid()}.{secrets.token_hex(4)}.bak"
+                    os.link(folder / name, backups[name])
+            try:
+                for name in ("blocks.csv", "contacts.csv", "runs.csv", "summary.csv"):
+                    os.replace(temps[name], folder / name)
+                    del temps[name]
+                    done.append(name)
+            except BaseException:
+                for name in done:  # put the old files back (or remove what had no old file)
+                    if name in backups:
+                        os.replace(backups.pop(name), folder / name)
+                    else:
+                        os.unlink(folder / name)
+                raise
         finally:
-            for tmp in temps.values():
+            for tmp in list(temps.values()) + list(backups.values()):
                 try:
                     os.unlink(tmp)
                 except OSError:

@@ -8,7 +8,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout without installing
 
-from lamodel.cli import solve_main  # noqa: E402
-
 if __name__ == "__main__":
+    try:
+        from lamodel.cli import solve_main  # importing Pyomo & co. takes a few seconds
+    except KeyboardInterrupt:
+        print("solve.py: interrupted", file=sys.stderr)
+        sys.exit(130)
     sys.exit(solve_main())

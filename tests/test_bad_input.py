@@ -8,11 +8,6 @@ process (:func:`solve_py`, by runpy: the same code path without the 2 s of impor
 new interpreter); a representative few (:data:`FRESH`) run as real processes, started
 together by the module fixture :func:`fresh`. Physical edge cases, failures during a run
 (time limit, write failures, a dying Ipopt worker, Ctrl-C) and reproducibility follow.
-
-Tests marked ``xfail(strict=True)`` document a defect in a file this test file may not
-change (lamodel/cli.py, lamodel/driver.py, lamodel/results.py, scripts/solve.py); the
-reason names the defect. They turn into failures ("XPASS(strict)") once it is fixed, so
-that the mark gets removed.
 """
 from __future__ import annotations
 
@@ -345,18 +340,12 @@ def test_bad_option(tmp_path, capfd, option, value):
     assert not (tmp_path / "out").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="cli.py: a non-number for --starts says \"invalid _positive_int value: 'x'\" "
-                                       "(an internal function name, no 'expected'); _positive_int should catch "
-                                       "ValueError and raise ArgumentTypeError('expected a whole number >= 0, got x')")
 def test_option_not_a_number(tmp_path, capfd):
     line = _one_line_error(solve_py(capfd, INSTANCES / "wall33.dat", "--starts", "x", "--out", tmp_path / "out"))
     assert "--starts" in line and "x" in line
     assert "_positive_int" not in line and "expected a whole number" in line
 
 
-@pytest.mark.xfail(strict=True, reason="cli.py: --out naming an existing file is found only after the solve, when "
-                                       "Results.write fails: 'internal error: FileExistsError', exit 1; it should be "
-                                       "checked before solving and reported as bad input (exit 2)")
 def test_out_is_an_existing_file(tmp_path, capfd):
     path = tmp_path / "stack.dat"
     path.write_text(BASE_DAT)
@@ -398,21 +387,12 @@ def test_held_block_has_no_mechanism_at_all():
     assert res.status == "infeasible"
 
 
-@pytest.mark.xfail(strict=True, reason="driver.py: 'unstable' is decided by the associative LP with alpha >= 0, not at "
-                                       "alpha = 0: a structure that needs the live load to stand (here alpha >= 0.4) "
-                                       "gets a 'certified' alpha = 0.6; fix: after the associative LP, "
-                                       "lps.statics(None, minimize=True).alpha > 0 means unstable under dead load")
 def test_structure_that_needs_the_live_load_to_stand_is_unstable():
     s = structure_from_json(dict(OVERHANG, live_load=[-1.0, 0.0]))  # pushing b2 back over b1
     o = solve(s, SolveOptions(starts=0, pop_size=4, generations=2))
     assert o.status == "unstable" and not o.certified
 
 
-@pytest.mark.xfail(strict=True, reason="driver.py: an unbounded associative LP is taken as 'no collapse', but a "
-                                       "self-stress (a block squeezed between two walls) makes it unbounded while a "
-                                       "collapse state exists (lifting at alpha = 1); fix: when unbounded, look for "
-                                       "a mechanism (lps.mechanism with every row allowed) and certify it before "
-                                       "giving up")
 def test_unbounded_associative_lp_can_still_collapse():
     s = structure_from_json(dict(HELD, live_load=[0.0, 1.0]))  # lift the held block
     lps = LimitLPs(s)
@@ -421,9 +401,6 @@ def test_unbounded_associative_lp_can_still_collapse():
     assert o.certified and o.best.alpha == pytest.approx(1.0, abs=1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="driver.py maps HiGHS's 'unbounded_or_infeasible' to 'no collapse' without "
-                                       "deciding; fix: in that case solve lps.statics(None, minimize=True) (bounded "
-                                       "below by alpha >= 0): infeasible means 'unstable under dead load'")
 def test_ambiguous_lp_status_of_an_unstable_structure(monkeypatch):
     s = structure_from_json(OVERHANG)
     assert LimitLPs(s).associative().status == "infeasible"
@@ -455,11 +432,6 @@ def test_time_limit_writes_a_complete_result_folder(time_limited):
     assert elapsed < 60
 
 
-@pytest.mark.xfail(strict=True, reason="driver.py: when the time limit stops the search before the Ipopt starts, "
-                                       "runs.csv has only the GA row: nothing says the 2 requested starts were "
-                                       "skipped; "
-                                       "fix: append Run(i, 'ipopt', status='time limit') for each start not run "
-                                       "(and say 'time limit' in the GA row and the summary message)")
 def test_time_limit_is_recorded_in_runs(time_limited):
     _, out, _ = time_limited
     r = Results.read(out)
@@ -503,10 +475,6 @@ def test_failed_write_leaves_the_old_result_folder(tmp_path, monkeypatch, error)
     assert Results.read(folder).alpha == 0.5
 
 
-@pytest.mark.xfail(strict=True, reason="results.py: Results.write renames the four files one by one; if a rename "
-                                       "fails midway, blocks.csv is new and the rest old (its docstring promises the "
-                                       "old files untouched); fix: keep the old files (os.link to .name.bak) and "
-                                       "restore them when any os.replace fails, or write a fresh folder and swap it")
 def test_failed_rename_leaves_the_old_result_folder(tmp_path, monkeypatch):
     folder = tmp_path / "res"
     _results(0.5).write(folder)
@@ -605,11 +573,6 @@ def test_ctrl_c_writes_complete_results(interrupted):
     assert not [k for k in kids if Path(f"/proc/{k}").exists()], "Ipopt workers outlived the run"
 
 
-@pytest.mark.xfail(strict=True, reason="driver.py: on Ctrl-C runs.csv loses everything: the GA row is appended only "
-                                       "after the GA, unfinished Ipopt starts are not recorded, so n_certified is 0 "
-                                       "while certified is True; fix: in the KeyboardInterrupt handler append the GA "
-                                       "row (status 'interrupted', alpha of the archive's best) and an 'interrupted' "
-                                       "row per unfinished start")
 def test_ctrl_c_is_recorded_in_runs(interrupted):
     code, _, _, out, _, _ = interrupted
     r = Results.read(out)
@@ -619,10 +582,6 @@ def test_ctrl_c_is_recorded_in_runs(interrupted):
     assert r.summary.n_certified[0] >= int(r.certified)
 
 
-@pytest.mark.xfail(strict=False, reason="scripts/solve.py: Ctrl-C during the imports (the first ~2 s) ends with a "
-                                        "KeyboardInterrupt traceback and status -SIGINT instead of 130; fix: wrap the "
-                                        "'from lamodel.cli import solve_main' in try/except KeyboardInterrupt: "
-                                        "sys.exit(130)")
 def test_ctrl_c_during_start_up(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     p = subprocess.Popen([sys.executable, str(ROOT / "scripts" / "solve.py"), str(INSTANCES / "wall33.dat"),
