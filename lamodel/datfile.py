@@ -29,6 +29,7 @@ from collections import defaultdict
 import numpy as np
 
 from .errors import InputError
+from .files import atomic_write_text
 from .model import BLOCK_PARAMS, CONTACT_PARAMS
 from .structure import Structure
 
@@ -63,15 +64,6 @@ def write_dat(structure: Structure, path) -> str:
         lines.append(";")
     atomic_write_text(path, "\n".join(lines) + "\n")
     return str(path)
-
-
-def atomic_write_text(path, text: str):
-    """Write text so that readers see either the old file or the whole new one."""
-    path = os.fspath(path)
-    tmp = f"{path}.tmp{os.getpid()}"
-    with open(tmp, "w") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
 
 
 def _scan_duplicates(path: str, text: str):

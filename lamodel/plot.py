@@ -9,6 +9,8 @@ format follows the extension of ``path`` (.png, .svg, .pdf, ...).
 """
 from __future__ import annotations
 
+import os
+
 from pathlib import Path
 
 import matplotlib
@@ -206,7 +208,9 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     if legend:
         ax.legend(handles=legend, loc="best", fontsize="small", framealpha=0.8)
     if path is not None:
-        ax.figure.savefig(path, dpi=150, bbox_inches="tight")
+        from .files import atomic_write
+        fmt = os.path.splitext(str(path))[1].lstrip(".").lower() or "png"
+        atomic_write(path, lambda tmp: ax.figure.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight"))
     if own:
         plt.close(fig)
     return path
