@@ -128,6 +128,9 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     _check_solver(opt)
     lps = LimitLPs(structure)                     # tight tolerances: what is reported
     screen = LimitLPs(structure, tolerance=None)  # HiGHS defaults: the GA's many LPs
+    screen.deadline = deadline
+    # the reported LPs may finish what the search found: a tenth of the limit more
+    lps.deadline = None if deadline is None else deadline + 0.1 * opt.time_limit
     runs: list[Run] = []
     final = _Archive()     # states certified with tight tolerances
 

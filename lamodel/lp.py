@@ -16,6 +16,7 @@ Variables of the statics LPs are (N, V, M, alpha) in the order of eq. (3).
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import highspy
@@ -101,6 +102,8 @@ class _HighsLP:
         if status in (highspy.HighsModelStatus.kUnbounded, highspy.HighsModelStatus.kUnboundedOrInfeasible):
             # Tell the two apart: a basis-free re-solve settles it.
             return "unbounded" if status == highspy.HighsModelStatus.kUnbounded else "unbounded_or_infeasible", None, None, None
+        if status == highspy.HighsModelStatus.kTimeLimit:
+            return "time limit", None, None, None
         return self.h.modelStatusToString(status), None, None, None
 
 
@@ -110,6 +113,7 @@ class LimitLPs:
     def __init__(self, structure: Structure, tolerance: float | None = TIGHT_TOLERANCE):
         self.structure = s = structure
         self.tolerance = tolerance
+        self.deadline = None  # time.perf_counter() value after which LPs stop ("time limit")
         self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
         self.A = s.equilibrium_matrix()
         self.f0, self.fbar = s.load_vectors()
@@ -213,6 +217,8 @@ class LimitLPs:
 
     def _run(self, lp: _HighsLP) -> LPResult:
         self.n_solves += 1
+        if self.deadline is not None:  # one LP of a large model can take minutes
+            lp.h.setOptionValue("time_limit", max(self.deadline - time.perf_counter(), 1e-3))
         status, x, yr, yc = lp.solve()
         if status != "optimal" and status.startswith("unbounded_or"):
             lp.h.clearSolver()  # start cold to tell infeasible from unbounded
