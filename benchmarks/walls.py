@@ -48,7 +48,9 @@ def bond_wall(courses: int, blocks: int, folder: Path) -> Path:
 
 
 def run_case(instance: Path, options: list, folder: Path, timeout: float) -> dict:
+    from lamodel.cli import load_structure
     from lamodel.results import Results
+    structure = load_structure(str(instance))  # sizes even when the solve writes nothing
     out = folder / f"{instance.stem}_{len(list(folder.iterdir()))}"
     cmd = [sys.executable, str(ROOT / "scripts" / "solve.py"), str(instance), "--out", str(out), "--quiet", *options]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
@@ -58,13 +60,16 @@ def run_case(instance: Path, options: list, folder: Path, timeout: float) -> dic
         rc = proc.returncode
     except subprocess.TimeoutExpired:
         rc = "timeout"
+    else:
+        if rc < 0:  # killed by a signal
+            rc = f"signal {-rc}"
     seconds = time.perf_counter() - t
-    row = {"instance": instance.stem, "n_blocks": None, "n_contacts": None, "options": " ".join(options) or "(default)",
+    row = {"instance": instance.stem, "n_blocks": structure.n_blocks, "n_contacts": structure.n_contacts,
+           "options": " ".join(options) or "(default)",
            "alpha": float("nan"), "certified": False, "seconds": seconds, "exit": rc}
     if (out / "summary.csv").exists():
         summary = Results.read(out).summary.iloc[0]
-        row.update(n_blocks=int(summary["n_blocks"]), n_contacts=int(summary["n_contacts"]),
-                   alpha=float(summary["alpha"]), certified=bool(summary["certified"]))
+        row.update(alpha=float(summary["alpha"]), certified=bool(summary["certified"]))
     return row
 
 
