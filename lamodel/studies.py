@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import copy
 import os
-import tempfile
 import time
 from pathlib import Path
 
@@ -185,17 +184,8 @@ def table1(options: SolveOptions | None = None, instances=None, reference=None, 
 # ------------------------------------------------------------------------- files
 def _atomic(path: Path, write):
     """Call write(tmp) on a temporary file in path's folder, then rename it over path."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    from .files import atomic_write
+    return atomic_write(path, write)
 
 
 def write_csv(df: pd.DataFrame, path) -> str:
