@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .certify import CollapseState, certify, certify_flow, contact_modes, descend
+from .certify import CollapseState, certify, certify_flow, descend
 from .lp import LimitLPs
 from .structure import Structure
 
@@ -404,10 +404,3 @@ def _ipopt_multistart(pool, structure, lps, starts, archive, runs, opt, deadline
             fut.cancel()
             runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="time limit"))
     runs.sort(key=lambda r: r.start)
-
-
-def mechanism_table(structure: Structure, state: CollapseState | None):
-    """(u as (nb, 3), modes per contact) of a state; NaN and 'closed' without one."""
-    if state is None:
-        return np.full((structure.n_blocks, 3), np.nan), ["closed"] * structure.n_contacts
-    return state.u.reshape(-1, 3), contact_modes(structure, state.xi)

@@ -9,7 +9,7 @@ from lamodel.datfile import read_dat, write_dat
 from lamodel.model import create_abstract_model, create_model, get_state, set_state
 from lamodel.structure import YIELD_ROWS
 
-from conftest import INSTANCES, stack_spec
+from conftest import INSTANCES
 
 
 def test_wall33_component_counts(wall33):
