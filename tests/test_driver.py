@@ -181,3 +181,13 @@ def test_exit_codes(tmp_path):
     path.write_text(json.dumps(spec))
     p = run_script("solve.py", path, "--out", tmp_path / "o2", "--quiet")
     assert p.returncode == 3 and "unstable under dead load" in p.stdout
+
+
+@pytest.mark.parametrize("name", ["wall33", "wall55", "arch", "portal", "portal_columns"])
+def test_every_instance_certifies_from_dat_and_json_alike(name):
+    from lamodel.datfile import read_dat
+    a = solve(read_dat(INSTANCES / f"{name}.dat"), SolveOptions(starts=0))
+    b = solve(structure_from_json(INSTANCES / f"{name}.json"), SolveOptions(starts=0))
+    assert a.certified and b.certified
+    assert a.best.alpha == pytest.approx(b.best.alpha, abs=1e-9)
+    assert a.best.alpha <= a.alpha_associative + 1e-9
