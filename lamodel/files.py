@@ -19,12 +19,17 @@ def atomic_write(path, write):
         write(tmp)
         os.replace(tmp, path)
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        remove_quietly(tmp)
         raise
     return str(path)
+
+
+def remove_quietly(path):
+    """Remove a (temporary) file if it is there; a cleanup must not mask the real error."""
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
 
 
 def atomic_write_text(path, text: str):

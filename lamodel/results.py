@@ -34,6 +34,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError
+from .files import remove_quietly
 
 #: Contact modes of the mechanism (the ``mode`` column of contacts.csv).
 MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open")
@@ -282,10 +283,7 @@ def _write_temp(folder: Path, name: str, df: pd.DataFrame) -> Path:
             fh.flush()
             os.fsync(fh.fileno())
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        remove_quietly(tmp)
         raise
     return tmp
 
@@ -363,10 +361,7 @@ class Results:
                 raise
         finally:
             for tmp in list(temps.values()) + list(backups.values()):
-                try:
-                    os.unlink(tmp)
-                except OSError:
-                    pass
+                remove_quietly(tmp)
         return str(folder)
 
     @classmethod
