@@ -139,13 +139,15 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
         runs.sort(key=lambda r: r.start)
         return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed)
 
-    status, message, assoc = _classify(structure, lps, final)
-    if status in ("unstable", "no_collapse", "failed"):
-        return finish("not_certified" if status == "failed" else status, message)
-    alpha_assoc = assoc.alpha if assoc is not None else np.inf
+    # Fork the Ipopt workers before HiGHS starts threads here; they build their models
+    # while the LPs and the GA run.
     pool = _start_pool(structure, opt) if opt.starts > 0 else None
-    ga_start, lp0 = time.perf_counter(), lps.n_solves
+    ga_start, lp0, alpha_assoc = time.perf_counter(), lps.n_solves, np.nan
     try:
+        status, message, assoc = _classify(structure, lps, final)
+        if status in ("unstable", "no_collapse", "failed"):
+            return finish("not_certified" if status == "failed" else status, message)
+        alpha_assoc = assoc.alpha if assoc is not None else np.inf
         if assoc is not None:
             _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time)
         best = final.best(1)[0] if final.states else None
