@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 from pyomo.common.config import Bool, ConfigBlock, ConfigValue, PositiveFloat
 from pyomo.core.base.block import BlockData, declare_custom_block
-from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Constraint, NonNegativeReals,
+from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Constraint, Expression, NonNegativeReals,
                            Objective, Param, Reals, Set, Var, minimize, inequality)
 
 from .structure import YIELD_ROWS, Structure
@@ -142,12 +142,20 @@ def _force_terms(b, j):
 
 
 def declare_equilibrium(b):
-    """Eq. (1)-(2): f0 + alpha fbar + contact forces = 0 for every block (forces, moment)."""
+    """Eq. (1)-(2): f0 + alpha fbar + contact forces = 0 for every block (forces, moment).
+
+    ``extra_x``/``extra_y`` are further constant forces at the centroids, zero until a
+    user's study sets them (``m.wall.extra_x['b33'] = -m.T`` for a tie whose force T is a
+    decision): they belong to f0, so they enter both the equilibrium and alpha_K of eq. (5).
+    """
+    b.extra_x = Expression(b.BLOCKS, initialize=0.0, doc="user's constant force at the centroid, x (part of f0)")
+    b.extra_y = Expression(b.BLOCKS, initialize=0.0, doc="user's constant force at the centroid, y (part of f0)")
+
     def force_x(b, j):
-        return _force_terms(b, j)[0] + b.dead_x[j] + b.alpha * b.live_x[j] == 0
+        return _force_terms(b, j)[0] + b.dead_x[j] + b.extra_x[j] + b.alpha * b.live_x[j] == 0
 
     def force_y(b, j):
-        return _force_terms(b, j)[1] + b.dead_y[j] + b.alpha * b.live_y[j] == 0
+        return _force_terms(b, j)[1] + b.dead_y[j] + b.extra_y[j] + b.alpha * b.live_y[j] == 0
 
     def moment(b, j):
         # loads act at the centroid: no moment of their own
@@ -215,7 +223,8 @@ def declare_kinematics(b):
 def kinematic_multiplier(b):
     """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5): the work of the dead loads plus the
     dissipation on the fictitious cohesion -mu N."""
-    dead_work = sum(b.dead_x[j] * b.ux[j] + b.dead_y[j] * b.uy[j] for j in b.BLOCKS)
+    dead_work = sum((b.dead_x[j] + b.extra_x[j]) * b.ux[j] + (b.dead_y[j] + b.extra_y[j]) * b.uy[j]
+                    for j in b.BLOCKS)
     dissipation = sum(b.mu[k] * b.N[k] * (b.xi[k, "slide+"] + b.xi[k, "slide-"]) for k in b.CONTACTS)
     return -dead_work - dissipation
 

@@ -121,25 +121,30 @@ def test_solved_stack_is_in_equilibrium_and_overturns_at_the_known_multiplier(st
 def test_block_inside_a_users_model(stack):
     """A user's study: a horizontal tie at the top block, whose force T the user pays for,
     must keep the collapse multiplier at or above 0.8."""
+    from lamodel.certify import certify
+    from lamodel.lp import LimitLPs
     m = pe.ConcreteModel()
     m.wall = lamodel.LimitAnalysisBlock(structure=stack, objective=False)
     m.T = pe.Var(bounds=(0, 10), initialize=0.0)
-    # the tie pulls the top block against the live load: add -T to its x equilibrium
     top = stack.blocks[-1]
-    m.wall.equilibrium_x[top].deactivate()
-    from lamodel.model import _force_terms
     w = m.wall
-    m.tied_x = pe.Constraint(expr=_force_terms(w, top)[0] + w.dead_x[top] + w.alpha * w.live_x[top] - m.T == 0)
+    w.extra_x[top] = -m.T  # the tie pulls the top block against the live load
     m.safe = pe.Constraint(expr=w.alpha >= 0.8)
     m.cost = pe.Objective(expr=m.T)
     w.epsilon = 1e-7
     res = pe.SolverFactory("lamodel_ipopt").solve(m, options={"bound_relax_factor": 0.0, "max_iter": 3000})
     assert res.solver.termination_condition in (pe.TerminationCondition.optimal,
                                                 pe.TerminationCondition.locallyOptimal)
-    # With a tie T at the top (height 1.5 above the toe... at the centroid, 1.5): the stack
-    # overturns when alpha (0.5 + 1.5) = 1 + 1.5 T, so alpha = 0.8 needs T = 0.4.
-    assert pe.value(m.T) == pytest.approx(0.4, abs=1e-4)
+    # The stack overturns about its toe when alpha (0.5 + 1.5) = 1 + 1.5 T: alpha = 0.8 needs T = 0.4.
+    T = pe.value(m.T)
+    assert T == pytest.approx(0.4, abs=1e-4)
     assert pe.value(w.alpha) == pytest.approx(0.8, abs=1e-4)
+    # The tie is part of f0: with it in the structure's dead loads, the point is an exact
+    # collapse state (its work enters alpha_K, so the flow is complementary).
+    tied = lamodel.Structure(**{**stack.__dict__, "dead": stack.dead + np.array([[0.0, 0.0], [-T, 0.0]])})
+    N, V, M, alpha, u, xi = get_state(w, stack)
+    state = certify(LimitLPs(tied), N, V, M, alpha, u, xi)
+    assert state is not None and state.alpha == pytest.approx(0.8, abs=1e-4)
 
 
 def test_block_rejects_a_missing_structure():
