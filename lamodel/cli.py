@@ -147,7 +147,7 @@ def _solve(args) -> int:
         return 1
     picture = None
     if not args.no_plot:
-        picture = _draw(structure, outcome, args.plot or out / "mechanism.png")
+        picture = _draw(structure, outcome, results, args.plot or out / "mechanism.png")
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
             print(results.to_text())
@@ -162,16 +162,15 @@ def _solve(args) -> int:
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
 
 
-def _draw(structure, outcome, path):
+def _draw(structure, outcome, results, path):
     import numpy as np
 
-    from .certify import contact_modes
     from .plot import plot_mechanism
     path = Path(path)
     if path.parent and not path.parent.exists():
         os.makedirs(path.parent, exist_ok=True)
     if outcome.best is not None:
-        u, modes = outcome.best.u.reshape(-1, 3), contact_modes(structure, outcome.best.xi)
+        u, modes = outcome.best.u.reshape(-1, 3), results.modes()  # the modes contacts.csv reports
         alpha = outcome.best.alpha
     else:
         u, modes, alpha = np.zeros((structure.n_blocks, 3)), ["closed"] * structure.n_contacts, None
