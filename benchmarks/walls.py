@@ -48,8 +48,8 @@ def bond_wall(courses: int, blocks: int, folder: Path) -> Path:
 
 
 def run_case(instance: Path, options: list, folder: Path, timeout: float) -> dict:
-    from lamodel.cli import load_structure
-    from lamodel.results import Results
+    from lamodel.io import read as load_structure
+    from lamodel.output.results import Results
     structure = load_structure(str(instance))  # sizes even when the solve writes nothing
     out = folder / f"{instance.stem}_{len(list(folder.iterdir()))}"
     cmd = [sys.executable, str(ROOT / "scripts" / "solve.py"), str(instance), "--out", str(out), "--quiet", *options]

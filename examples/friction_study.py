@@ -5,7 +5,7 @@
     python examples/friction_study.py --mus 0.4,0.65,0.9 --out results/friction.png
 
 For each mu, every contact of the wall gets that friction coefficient and
-``lamodel.driver.solve`` finds the least certified collapse multiplier (the core loop is
+``lamodel.search.driver.solve`` finds the least certified collapse multiplier (the core loop is
 ``lamodel.studies.friction_study``). Prints the table, writes it as CSV (``--csv``,
 default: the plot's path with .csv) and plots alpha_c and the associative bound against mu
 (``--out``, default friction_study.png).
@@ -53,8 +53,8 @@ def main(argv=None):
 
     import pandas as pd
 
-    from lamodel.cli import load_structure
-    from lamodel.driver import SolveOptions
+    from lamodel.io import read as load_structure
+    from lamodel.search.driver import SolveOptions
     from lamodel.studies import friction_study, plot_friction_study, write_csv
 
     structure = load_structure(args.instance)

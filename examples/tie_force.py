@@ -10,19 +10,18 @@ horizontal tie force 0 <= T <= t_max pulling the right end block of the top cour
 against the live load, at a price per unit force; the collapse multiplier must reach a
 target; minimise the cost. Ipopt (``SolverFactory('lamodel_ipopt')``) solves it.
 
-Adding a force to a block changes two constraints of the block, not one:
-
-* its x equilibrium (``equilibrium_x[b33]`` is deactivated and replaced with the tie in it);
-* the bilinear condition alpha = alpha_K (``complementarity``): alpha_K is the work of the
-  constant forces on the mechanism plus the dissipation, and the tie is a constant force,
-  so it adds T * ux[b33]. Without this the model's points are not collapse states of the
-  tied wall: flow on rows that are not at yield makes up the missing work.
+The tie enters through the block's public ``extra_x`` expression (``m.wall.extra_x['b33'] =
+-m.T``): a user's constant force at the centroid, part of f0, so the model puts it in both
+places it belongs — the x equilibrium of b33 and the bilinear condition alpha = alpha_K,
+where the constant forces do work on the mechanism (T * ux[b33]). A force put in the
+equilibrium alone would leave points that are not collapse states of the tied wall: flow on
+rows that are not at yield would make up the missing work.
 
 What Ipopt returns is *a* collapse state of the tied wall with alpha >= target (a point
 of eq. 5 with T fixed), which is not necessarily the least collapse multiplier of that wall:
 eq. 5 has many local solutions, and minimising T pushes towards the largest of them.
 So the answer is checked independently: the tie force found becomes a constant dead force
-on b33 in a copy of the Structure, and ``lamodel.driver.solve`` (LPs only, ``starts=0``;
+on b33 in a copy of the Structure, and ``lamodel.search.driver.solve`` (LPs only, ``starts=0``;
 its default GA and ``--checks`` wider GA searches) looks for the least certified collapse
 multiplier of the tied wall. Only that number says whether the target is met, and
 it is itself the least multiplier lamodel found (an upper bound on the true minimum).
@@ -53,7 +52,6 @@ def build_user_model(structure, block, target, price, t_max, epsilon=1e-7):
     import pyomo.environ as pe
 
     import lamodel
-    from lamodel.model import _force_terms, kinematic_multiplier
 
     m = pe.ConcreteModel(name="tie_design")
     m.wall = lamodel.LimitAnalysisBlock(structure=structure, objective=False)
@@ -61,14 +59,9 @@ def build_user_model(structure, block, target, price, t_max, epsilon=1e-7):
     m.T = pe.Var(bounds=(0.0, t_max), initialize=0.0, doc="tie force, pulling the block against the live load")
     m.price = pe.Param(initialize=price, mutable=True, doc="cost per unit tie force")
     m.target = pe.Param(initialize=target, mutable=True, doc="least acceptable collapse multiplier")
-    # the tie force (-T, 0) acts at the centroid of the block: its x equilibrium gets -T ...
-    w.equilibrium_x[block].deactivate()
-    m.tied_equilibrium_x = pe.Constraint(
-        expr=_force_terms(w, block)[0] + w.dead_x[block] + w.alpha * w.live_x[block] - m.T == 0)
-    # ... and the constant forces' work in alpha_K = -u^T (f0 + tie) - dissipation gets +T ux
-    w.complementarity.deactivate()
-    m.tied_complementarity = pe.Constraint(
-        expr=pe.inequality(0, kinematic_multiplier(w) + m.T * w.ux[block] - w.alpha, w.epsilon))
+    # the tie force (-T, 0) at the centroid of the block: a constant force of the user's, part
+    # of f0, so it enters both the block's x equilibrium and alpha_K (eq. 5)
+    w.extra_x[block] = -m.T
     m.safe = pe.Constraint(expr=w.alpha >= m.target)
     m.cost = pe.Objective(expr=m.price * m.T)
     w.epsilon = epsilon
@@ -91,14 +84,14 @@ def main(argv=None):
     import pandas as pd
     import pyomo.environ as pe
 
-    from lamodel.certify import certify
-    from lamodel.cli import load_structure
-    from lamodel.driver import SolveOptions, solve
-    from lamodel.lp import LimitLPs
-    from lamodel.model import get_state, set_state
+    from lamodel.formulation.model import get_state, set_state
+    from lamodel.io import read
+    from lamodel.search.certify import certify
+    from lamodel.search.driver import SolveOptions, solve
+    from lamodel.search.lp import LimitLPs
     from lamodel.studies import mode_counts, with_dead_force, write_csv
 
-    s = load_structure(args.instance)
+    s = read(args.instance)
     if args.block is None:  # the block of the top course with the largest centroid x
         y_top = s.centroid[:, 1].max()
         top = [j for j in range(s.n_blocks) if abs(s.centroid[j, 1] - y_top) < 1e-9 * max(1.0, abs(y_top))]
@@ -112,7 +105,7 @@ def main(argv=None):
     if untied.best is None:
         print(f"{s.name}: no certified collapse state of the untied wall ({untied.message})")
         return 1
-    rows.append(dict(step="untied wall: lamodel.driver.solve", T=0.0, alpha=untied.best.alpha, certified=True,
+    rows.append(dict(step="untied wall: lamodel.search.driver.solve", T=0.0, alpha=untied.best.alpha, certified=True,
                      seconds=untied.wall_time_s))
     print(f"{s.name}: untied, certified alpha_c = {untied.best.alpha:.6f} (associative bound "
           f"{untied.alpha_associative:.6f}); target {args.target:g}, tie at {args.block}")

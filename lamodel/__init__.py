@@ -4,13 +4,54 @@ The minimum collapse multiplier of a frictional (non-associative) assembly from 
 mathematical program of eq. (5) of the seed paper: statically admissible states,
 kinematically admissible mechanisms of a fictitious system with cohesion -mu N, and the
 bilinear condition alpha = -u^T f0 - xi^T N_mu s_N.
-"""
-from .errors import InputError, SolverError
-from .structure import Structure
-from . import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt')
-from .model import LimitAnalysisBlock, create_abstract_model, create_model  # noqa: F401
-from .datfile import read_dat, write_dat
 
-__all__ = ["InputError", "SolverError", "Structure", "LimitAnalysisBlock", "create_abstract_model",
-           "create_model", "read_dat", "write_dat"]
-__version__ = "0.1.0"
+Layers (docs/architecture.md): :mod:`lamodel.io` (files in), :mod:`lamodel.structure`
+(the data), :mod:`lamodel.geometry` (contacts from polygons, generators),
+:mod:`lamodel.formulation` (eq. 1-5: matrices and the Pyomo model), :mod:`lamodel.search`
+(LPs, certification, GA, Ipopt, the driver), :mod:`lamodel.output` (results, modes,
+pictures, comparison), :mod:`lamodel.cli`.
+
+The names below load on first use: ``import lamodel`` does not import Pyomo, so reading
+results or comparing them starts quickly. ``SolverFactory('lamodel_ipopt')`` (Debian's
+libipopt through cyipopt) is registered by :mod:`lamodel.search.bridge`, which the Pyomo
+model imports, and at ``import lamodel`` when Pyomo is already loaded.
+"""
+import sys
+from importlib import import_module
+
+from .errors import InputError, SolverError  # noqa: F401
+
+__version__ = "0.2.0"
+
+_LAZY = {
+    "Structure": "lamodel.structure",
+    "read": "lamodel.io",
+    "read_dat": "lamodel.io.datfile",
+    "write_dat": "lamodel.io.datfile",
+    "structure_from_json": "lamodel.io.jsonspec",
+    "structure_to_json": "lamodel.io.jsonspec",
+    "solve": "lamodel.search.driver",
+    "SolveOptions": "lamodel.search.options",
+    "Results": "lamodel.output.results",
+    "LimitAnalysisBlock": "lamodel.formulation.model",
+    "create_model": "lamodel.formulation.model",
+    "create_abstract_model": "lamodel.formulation.model",
+}
+
+__all__ = ["InputError", "SolverError", *_LAZY]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'lamodel' has no attribute '{name}'")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_LAZY))
+
+
+if "pyomo.environ" in sys.modules:  # a Pyomo user: SolverFactory('lamodel_ipopt') at no extra cost
+    import_module("lamodel.search.bridge")

@@ -1,27 +1,39 @@
-"""Command line: ``python scripts/solve.py INSTANCE [options]``.
+"""The command line: ``lamodel solve | compare | build | table1`` (one parser, one error style).
 
-Exit status: 0 a certified collapse multiplier was found; 3 none was (including a
-structure unstable under its dead load, or one no live load can collapse); 2 bad input;
-130 interrupted (what was certified so far is written).
+``scripts/solve.py``, ``scripts/compare.py``, ``scripts/build_instance.py`` and
+``scripts/table1.py`` are thin shims over :func:`command` with their old names.
+
+Every command reports bad input as one line ``<prog>: error: <message>`` on stderr with
+exit status 2, never a traceback (``--debug`` shows one). Other exit statuses:
+
+* solve: 0 a certified collapse multiplier was found; 3 none was (including a structure
+  unstable under its dead load, or one no live load can collapse); 130 interrupted (what
+  was certified so far is written); 1 an internal error;
+* compare: 0 the results agree within the tolerance, 1 they differ;
+* build: 0 the .dat file was written;
+* table1: 0 every wall certified, 3 some wall not certified.
+
+Heavy libraries (Pyomo, HiGHS, matplotlib) load only inside the commands that need them,
+so ``lamodel --help`` answers at once.
 """
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import traceback
 from pathlib import Path
 
-EXIT_CERTIFIED, EXIT_BAD_INPUT, EXIT_NOT_CERTIFIED, EXIT_INTERRUPTED = 0, 2, 3, 130
+EXIT_OK, EXIT_DIFFER, EXIT_BAD_INPUT, EXIT_NOT_CERTIFIED, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+EXIT_CERTIFIED = EXIT_OK
+
+
+class _Usage(Exception):
+    """A malformed command line (reported as one line, exit 2)."""
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit 2 (argparse would print the whole usage)
         raise _Usage(message)
-
-
-class _Usage(Exception):
-    pass
 
 
 def _whole(minimum):
@@ -47,14 +59,23 @@ def _positive_float(text):
     return v
 
 
-def solve_parser() -> argparse.ArgumentParser:
-    from .driver import SolveOptions
+def _tolerance(text):
+    try:
+        v = float(text)
+    except ValueError:
+        v = float("nan")
+    if not v >= 0 or v == float("inf"):
+        raise argparse.ArgumentTypeError(f"expected a finite tolerance >= 0, got '{text}'")
+    return v
 
-    p = _Parser(prog="solve.py", description="Minimum collapse multiplier of a frictional block assembly "
-                                              "(seed eq. 5), certified by LP.")
+
+# ------------------------------------------------------------------------------- solve
+def _solve_arguments(p):
+    from .search.options import SOLVERS, SolveOptions
+
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
     p.add_argument("--out", help="result folder (default: results/<instance name>/)")
-    p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
+    p.add_argument("--seed", type=int, default=SolveOptions.seed, help="random seed of the GA (default 0)")
     p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts,
                    help=f"Ipopt solves of eq. 5 (default {SolveOptions.starts}; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
@@ -63,72 +84,29 @@ def solve_parser() -> argparse.ArgumentParser:
                    help=f"GA population (default {SolveOptions.pop_size})")
     p.add_argument("--generations", type=_whole(1), default=SolveOptions.generations,
                    help=f"GA generations (default {SolveOptions.generations})")
-    p.add_argument("--solver", default="lamodel_ipopt", choices=("lamodel_ipopt", "ipopt"),
+    p.add_argument("--solver", default=SolveOptions.solver, choices=SOLVERS,
                    help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
     p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
     p.add_argument("--no-plot", action="store_true", help="draw no picture")
     p.add_argument("--quiet", action="store_true", help="print only the one-line result")
-    p.add_argument("--debug", action="store_true", help="show tracebacks")
-    return p
 
 
-def load_structure(path: str):
-    """A Structure from a .dat or a .json file (InputError otherwise)."""
-    from .errors import InputError
-    ext = Path(path).suffix.lower()
-    if Path(path).is_dir():
-        raise InputError(f"{path}: is a folder; expected a .dat instance or a .json geometry file")
-    if not Path(path).is_file():
-        raise InputError(f"{path}: no such file; expected a .dat instance or a .json geometry")
-    if ext == ".json":
-        from .geometry import structure_from_json
-        return structure_from_json(path)
-    if ext == ".dat":
-        from .datfile import read_dat
-        return read_dat(path)
-    raise InputError(f"{path}: unknown file type '{ext}'; expected .dat (Pyomo data) or .json (polygons)")
-
-
-def solve_main(argv=None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    debug = "--debug" in argv
-    try:
-        args = solve_parser().parse_args(argv)
-    except _Usage as exc:
-        print(f"solve.py: error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    try:
-        return _solve(args)
-    except KeyboardInterrupt:
-        print("solve.py: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except Exception as exc:
-        from .errors import InputError
-        if debug:
-            traceback.print_exc()
-        if isinstance(exc, InputError):
-            print(f"solve.py: error: {exc}", file=sys.stderr)
-            return EXIT_BAD_INPUT
-        print(f"solve.py: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
-              file=sys.stderr)
-        return 1
-
-
-def _solve(args) -> int:
+def _solve(args, prog) -> int:
     import warnings
 
     import pandas as pd
 
-    from .driver import SolveOptions, solve
     from .errors import InputError
-    from .report import outcome_results
+    from .io import read
+    from .output.report import outcome_results
+    from .search.driver import SolveOptions, solve
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        structure = load_structure(args.instance)
+        structure = read(args.instance)
     for w in caught:  # one line each, without Python's source-line echo
         if not args.quiet and issubclass(w.category, UserWarning):
-            print(f"solve.py: warning: {w.message}", file=sys.stderr)
+            print(f"{prog}: warning: {w.message}", file=sys.stderr)
     out = Path(args.out) if args.out else Path("results") / structure.name
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder; expected a folder for the result files")
@@ -143,7 +121,7 @@ def _solve(args) -> int:
     try:
         results.write(out)
     except OSError as exc:
-        print(f"solve.py: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
+        print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
         return 1
     picture = None
     if not args.no_plot:
@@ -153,8 +131,8 @@ def _solve(args) -> int:
             print(results.to_text())
         print(f"results written to {out}/" + (f", picture {picture}" if picture else ""))
     if outcome.certified:
-        print(f"{structure.name}: alpha = {max(outcome.best.alpha, 0.0):.6f} (certified collapse state; associative bound "
-              f"{outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
+        print(f"{structure.name}: alpha = {max(outcome.best.alpha, 0.0):.6f} (certified collapse state; associative "
+              f"bound {outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
     else:
         print(f"{structure.name}: no certified collapse multiplier: {outcome.message}")
     if outcome.status == "interrupted":
@@ -163,9 +141,11 @@ def _solve(args) -> int:
 
 
 def _draw(structure, outcome, results, path):
+    import os
+
     import numpy as np
 
-    from .plot import plot_mechanism
+    from .output.plot import plot_mechanism
     path = Path(path)
     if path.parent and not path.parent.exists():
         os.makedirs(path.parent, exist_ok=True)
@@ -175,3 +155,142 @@ def _draw(structure, outcome, results, path):
     else:
         u, modes, alpha = np.zeros((structure.n_blocks, 3)), ["closed"] * structure.n_contacts, None
     return plot_mechanism(structure, u, modes=modes, alpha=alpha, certified=outcome.certified, path=str(path))
+
+
+# ----------------------------------------------------------------------------- compare
+def _compare_arguments(p):
+    p.add_argument("a", metavar="A", help="reference result: a result folder or its summary.csv")
+    p.add_argument("b", metavar="B", help="result to compare with A")
+    p.add_argument("--atol", type=_tolerance, default=1e-5,
+                   help="absolute tolerance on alpha; forces are compared with atol*max(1, max|N| of A), "
+                        "displacements with atol*max(1, max|u| of A) (default: %(default)g)")
+
+
+def _compare(args, prog) -> int:
+    from .output.compare import compare_results, print_comparison
+    from .output.results import Results
+
+    a, b = Results.read(args.a), Results.read(args.b)
+    table, differ = compare_results(a, b, args.atol)
+    return print_comparison(table, differ, args.a, args.b, args.atol)
+
+
+# ------------------------------------------------------------------------------- build
+def _build_arguments(p):
+    p.add_argument("geometry", help="JSON geometry file (see lamodel.io.jsonspec)")
+    p.add_argument("-o", "--output", help="output .dat file (default: next to the JSON, with .dat)")
+    p.add_argument("--name", help="instance name (default: the JSON 'name' or the file stem)")
+
+
+def _build(args, prog) -> int:
+    from .io.datfile import write_dat
+    from .io.jsonspec import structure_from_json
+
+    output = Path(args.output) if args.output else Path(args.geometry).with_suffix(".dat")
+    structure = structure_from_json(args.geometry, name=args.name)
+    write_dat(structure, output)
+    print(f"{output}: {structure.n_blocks} blocks, {len(structure.supports)} supports, "
+          f"{structure.n_contacts} contacts")
+    return EXIT_OK
+
+
+# ------------------------------------------------------------------------------ table1
+def _table1_arguments(p):
+    p.add_argument("--out", default="results/table1.csv", help="CSV file (default results/table1.csv)")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
+    p.add_argument("--starts", type=_whole(0), default=2,
+                   help="Ipopt solves of eq. 5 per wall (default 2; 0: LPs only)")
+    p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
+
+
+def _table1(args, prog) -> int:
+    import pandas as pd
+
+    from .search.options import SolveOptions
+    from .studies import table1, write_csv
+
+    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers)
+    df = table1(options, progress=lambda r: print(f"  {r['wall']}: alpha = {r['lamodel']:.6f} "
+                                                  f"({'certified' if r['certified'] else 'NOT certified'}, "
+                                                  f"{r['seconds']:.1f} s)", flush=True))
+    with pd.option_context("display.width", 160, "display.max_columns", 20):
+        print(df.to_string(index=False, formatters={
+            c: (lambda v: f"{v:.6f}") for c in ("lamodel", "alpha_associative")} | {
+            c: (lambda v: f"{v:.5f}") for c in ("ferris_tin_loi_2", "gilbert_4", "mihai_5", "seed")} | {
+            "seconds": lambda v: f"{v:.1f}"}))
+    write_csv(df, args.out)
+    print(f"written to {args.out} (seed {args.seed}, starts {args.starts})")
+    return EXIT_OK if df["certified"].all() else EXIT_NOT_CERTIFIED
+
+
+#: command -> (help, declare the arguments, run)
+COMMANDS = {
+    "solve": ("minimum collapse multiplier of a block assembly (seed eq. 5), certified by LP",
+              _solve_arguments, _solve),
+    "compare": ("compare two result folders (exit 0 agree, 1 differ, 2 bad input)", _compare_arguments, _compare),
+    "build": ("write the Pyomo .dat instance of a JSON polygon geometry", _build_arguments, _build),
+    "table1": ("the seed's Table 1 with lamodel's certified alpha", _table1_arguments, _table1),
+}
+
+
+def _parser(prog="lamodel", command=None) -> argparse.ArgumentParser:
+    if command is not None:  # one command under its own name (the scripts/ shims)
+        text, arguments, _ = COMMANDS[command]
+        p = _Parser(prog=prog, description=text[0].upper() + text[1:] + ".")
+        arguments(p)
+        p.add_argument("--debug", action="store_true", help="show tracebacks")
+        return p
+    p = _Parser(prog=prog, description="Limit analysis of dry masonry block assemblies with Coulomb friction.")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name, (text, arguments, _) in COMMANDS.items():
+        sp = sub.add_parser(name, help=text, description=text[0].upper() + text[1:] + ".")
+        arguments(sp)
+        sp.add_argument("--debug", action="store_true", help="show tracebacks")
+    return p
+
+
+def command(name: str | None, argv=None, prog: str = "lamodel") -> int:
+    """Run one command (``name``) or the whole ``lamodel`` command line (``name=None``);
+    returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    try:
+        args = _parser(prog, name).parse_args(argv)
+    except _Usage as exc:
+        print(f"{prog}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    name = name or args.command
+    if name is None:
+        _parser(prog).print_help()
+        return EXIT_BAD_INPUT
+    if prog == "lamodel":
+        prog = f"lamodel {name}"
+    try:
+        return COMMANDS[name][2](args, prog)
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        from .errors import InputError
+        if debug:
+            traceback.print_exc()
+        if isinstance(exc, InputError):
+            print(f"{prog}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+            return EXIT_BAD_INPUT
+        print(f"{prog}: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
+              file=sys.stderr)
+        return 1
+
+
+def main(argv=None) -> int:
+    """The ``lamodel`` console script."""
+    return command(None, argv)
+
+
+def solve_main(argv=None) -> int:
+    """``lamodel-solve`` and ``scripts/solve.py``: the solve command under its old name."""
+    return command("solve", argv, prog="solve.py")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,4 +1,6 @@
-"""The block assembly as data: blocks, supports, contacts, loads — and its matrices.
+"""The block assembly as data: blocks, supports, contacts, loads; checked once by validate().
+
+The matrices of eq. (1)-(5) built from these data live in :mod:`lamodel.formulation.matrices`.
 
 Conventions (used everywhere in lamodel, and in the output CSVs):
 
@@ -12,7 +14,7 @@ Conventions (used everywhere in lamodel, and in the output CSVs):
 * The vector of contact forces is ordered as in eq. (3): ``s_f = (N_1..N_nc, V_1..V_nc,
   M_1..M_nc)``; block forces are ordered ``(f_x, f_y, m)`` block after block.
 
-With these conventions the equilibrium of eq. (1)-(2) reads ``A s_f + f0 + alpha fbar = 0``
+With these conventions (:mod:`lamodel.formulation.matrices`) the equilibrium of eq. (1)-(2) reads ``A s_f + f0 + alpha fbar = 0``
 and compatibility reads ``q = -A^T u``, so that virtual work holds:
 ``alpha fbar^T u + f0^T u = s_f^T q``.
 """
@@ -21,9 +23,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from .errors import InputError
+
+#: Per-block and per-contact data, by the names of the Pyomo model's parameters and of the
+#: .dat files (:mod:`lamodel.io.datfile`, :mod:`lamodel.formulation.model`).
+BLOCK_PARAMS = ("x", "y", "dead_x", "dead_y", "live_x", "live_y")
+CONTACT_PARAMS = ("block_a", "block_b", "cx", "cy", "nx", "ny", "d", "mu")
 
 #: Yield rows of eq. (4), in the order used for the flow multipliers xi (4 per contact):
 #: sliding forward, sliding backward, hinging on one edge, hinging on the other.
@@ -152,79 +158,3 @@ class Structure:
         if not np.any(self.live):
             raise InputError(f"{where}: every live load is zero; expected a live load for alpha to multiply")
         return self
-
-    # ----------------------------------------------------------------------- matrices
-    def equilibrium_matrix(self) -> sp.csr_matrix:
-        """A of eq. (2): block resultants (3 nb) produced by the contact forces (3 nc).
-
-        Column k (N_k), nc+k (V_k), 2nc+k (M_k). Forces act on block a and, reversed, on b.
-        """
-        nb, nc = self.n_blocks, self.n_contacts
-        ia, ib = self.contact_blocks()
-        n, t, c = self.normal, self.tangent, self.centre
-        rows, cols, vals = [], [], []
-
-        def put(blk, sign):
-            on = blk >= 0
-            k = np.flatnonzero(on)
-            j = blk[on]
-            g = self.centroid[j]
-            r = c[k] - g  # lever arm from the centroid to the contact centre
-            for col0, vec in ((0, n), (nc, t)):
-                f = vec[k]
-                rows.extend([3 * j, 3 * j + 1, 3 * j + 2])
-                cols.extend([col0 + k] * 3)
-                vals.extend([sign * f[:, 0], sign * f[:, 1], sign * (r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0])])
-            rows.append(3 * j + 2)
-            cols.append(2 * nc + k)
-            vals.append(sign * np.ones(k.size))
-
-        put(ia, 1.0)
-        put(ib, -1.0)
-        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                             shape=(3 * nb, 3 * nc))
-
-    def load_vectors(self):
-        """(f0, fbar) of eq. (2), each of length 3 nb, forces at the centroids (no couple)."""
-        nb = self.n_blocks
-        f0 = np.zeros(3 * nb)
-        fb = np.zeros(3 * nb)
-        f0[0::3], f0[1::3] = self.dead[:, 0], self.dead[:, 1]
-        fb[0::3], fb[1::3] = self.live[:, 0], self.live[:, 1]
-        return f0, fb
-
-    def yield_matrix(self) -> sp.csr_matrix:
-        """Rows of eq. (4), ``Y s_f <= 0``, stacked by kind (4 nc x 3 nc).
-
-        slide+: mu N + V, slide-: mu N - V, hinge+: d N - M, hinge-: d N + M.
-        """
-        nc = self.n_contacts
-        I = sp.identity(nc, format="csr")
-        Mu, D, Z = sp.diags(self.mu), sp.diags(self.d), sp.csr_matrix((nc, nc))
-        return sp.bmat([[Mu, I, Z], [Mu, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
-
-    def flow_matrix(self) -> sp.csr_matrix:
-        """Gradients of the fictitious cohesive yield rows (eq. 5's system), 4 nc x 3 nc.
-
-        The cohesive law replaces mu N by the cohesion -mu N of the real forces, so sliding
-        rows carry no normal component (no dilatancy); hinge rows are those of eq. (4).
-        Contact strains follow the flow rule ``q = G^T xi``.
-        """
-        nc = self.n_contacts
-        I = sp.identity(nc, format="csr")
-        D, Z = sp.diags(self.d), sp.csr_matrix((nc, nc))
-        return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
-
-    def xi_bounds(self, factor: float = 100.0) -> np.ndarray:
-        """Upper bounds on the 4 nc flow multipliers, from the data.
-
-        A mechanism normalised by ``fbar^T u = 1`` moves a block carrying the smallest live
-        load by at most about 1/|fbar_min|; slips are lengths of that size, hinge rotations
-        that size over d. ``factor`` leaves ample room. Without such a bound, multipliers of
-        order 1e7 on contacts with N ~ 0 turn 1e-8 violations into a fake, low alpha.
-        """
-        mag = np.hypot(self.live[:, 0], self.live[:, 1])
-        U = 1.0 / mag[mag > 0].min()
-        slide = np.full(self.n_contacts, factor * U)
-        hinge = factor * U / self.d
-        return np.concatenate([slide, slide, hinge, hinge])

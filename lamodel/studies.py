@@ -2,7 +2,7 @@
 
 These are the reusable parts of ``examples/friction_study.py``, ``examples/tie_force.py``
 and ``scripts/table1.py``. Every multiplier they report is a certified collapse
-multiplier of :func:`lamodel.driver.solve` (NaN when the driver certified none), so it is
+multiplier of :func:`lamodel.search.driver.solve` (NaN when the driver certified none), so it is
 the least collapse multiplier lamodel *found*: an upper bound on the true minimum α_c.
 
 Variants of a structure are deep copies; the structure passed in is never modified.
@@ -17,13 +17,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .certify import contact_modes
-from .driver import Outcome, SolveOptions, solve
 from .errors import InputError
+from .output.modes import modes_from_flow
+from .search.driver import Outcome, SolveOptions, solve
 from .structure import Structure
 
-#: The repository checkout this module belongs to (instances/, references/).
-ROOT = Path(__file__).resolve().parents[1]
+#: Reference data shipped with the package (the seed's Table 1).
+DATA = Path(__file__).resolve().parent / "data"
 
 #: Columns of :func:`friction_study`.
 FRICTION_COLUMNS = ("mu", "alpha_c", "alpha_associative", "certified", "n_sliding", "n_hinging", "seconds",
@@ -63,7 +63,7 @@ def with_dead_force(structure: Structure, block: str, fx: float = 0.0, fy: float
 def mode_counts(structure: Structure, xi) -> dict:
     """Contacts that slip (modes sliding, sliding+hinging), rotate (hinging,
     sliding+hinging) and open, in a mechanism's flow xi."""
-    modes = contact_modes(structure, xi)
+    modes = modes_from_flow(structure, xi)
     return {"n_sliding": sum(m in ("sliding", "sliding+hinging") for m in modes),
             "n_hinging": sum(m in ("hinging", "sliding+hinging") for m in modes),
             "n_open": sum(m == "open" for m in modes)}
@@ -87,7 +87,7 @@ def outcome_row(outcome: Outcome) -> dict:
 def friction_study(structure: Structure, mus, options: SolveOptions | None = None, progress=None) -> pd.DataFrame:
     """Certified collapse multiplier of the structure for each friction coefficient.
 
-    One :func:`lamodel.driver.solve` per mu (the same options each time) on a copy with
+    One :func:`lamodel.search.driver.solve` per mu (the same options each time) on a copy with
     that mu on every contact. Columns: mu, alpha_c (NaN if none was certified),
     alpha_associative, certified, n_sliding, n_hinging (contacts that slip / rotate in the
     mechanism; a contact doing both counts in both), seconds, status.
@@ -139,8 +139,8 @@ def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str
 
 # ------------------------------------------------------------------------- Table 1
 def read_table1(path=None) -> pd.DataFrame:
-    """The seed's Table 1 (references/table1.csv)."""
-    path = Path(path) if path is not None else ROOT / "references" / "table1.csv"
+    """The seed's Table 1 (package data ``lamodel/data/table1.csv``)."""
+    path = Path(path) if path is not None else DATA / "table1.csv"
     try:
         ref = pd.read_csv(path)
     except (OSError, pd.errors.ParserError) as exc:
@@ -154,20 +154,30 @@ def read_table1(path=None) -> pd.DataFrame:
 def table1(options: SolveOptions | None = None, instances=None, reference=None, progress=None) -> pd.DataFrame:
     """The seed's Table 1 with lamodel's certified multiplier beside the published ones.
 
-    Each wall of the reference table is read from ``instances/<wall>.dat`` and solved with
-    :func:`lamodel.driver.solve`. Columns: the reference columns, then lamodel (certified
-    alpha, NaN if none), alpha_associative, certified, seconds.
+    Each wall of the reference table is the seed's panel built by
+    :func:`lamodel.geometry.seed_instances` (or read from ``instances/<wall>.dat`` when a
+    folder ``instances`` is given) and solved with :func:`lamodel.search.driver.solve`.
+    Columns: the reference columns, then lamodel (certified alpha, NaN if none),
+    alpha_associative, certified, seconds.
     """
-    from .datfile import read_dat
+    from .geometry import seed_instances
+    from .io.datfile import read_dat
+    from .io.jsonspec import structure_from_json
 
-    instances = Path(instances) if instances is not None else ROOT / "instances"
+    specs = seed_instances()
     ref = read_table1(reference)
     rows = []
     for rec in ref.to_dict("records"):
-        structure = read_dat(instances / f"{rec['wall']}.dat")
+        wall = str(rec["wall"])
+        if instances is not None:
+            where = Path(instances) / f"{wall}.dat"
+            structure = read_dat(where)
+        elif wall in specs:
+            where, structure = f"the seed's {wall}", structure_from_json(specs[wall])
+        else:
+            raise InputError(f"Table 1 names wall '{wall}'; expected one of {', '.join(specs)} or a folder of instances")
         if structure.n_blocks != int(rec["n_blocks"]):
-            raise InputError(f"{instances / (rec['wall'] + '.dat')}: {structure.n_blocks} blocks; "
-                             f"the reference table says {rec['n_blocks']}")
+            raise InputError(f"{where}: {structure.n_blocks} blocks; the reference table says {rec['n_blocks']}")
         t = time.perf_counter()
         outcome = solve(structure, options or SolveOptions())
         best = outcome.best
@@ -184,7 +194,7 @@ def table1(options: SolveOptions | None = None, instances=None, reference=None, 
 # ------------------------------------------------------------------------- files
 def _atomic(path: Path, write):
     """Call write(tmp) on a temporary file in path's folder, then rename it over path."""
-    from .files import atomic_write
+    from .io.files import atomic_write
     return atomic_write(path, write)
 
 

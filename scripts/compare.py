@@ -1,13 +1,17 @@
-#!/usr/bin/env python
-"""Compare two limit-analysis results: ``compare.py A B [--atol 1e-5]``.
+#!/usr/bin/env python3
+"""Compare two limit-analysis results: python scripts/compare.py A B [--atol 1e-5]
 
-A and B are result folders (summary.csv, blocks.csv, contacts.csv, runs.csv) or their
-summary.csv. Exit status: 0 they agree within the tolerance, 1 they differ, 2 malformed or
-missing input. The rules are documented in :mod:`lamodel.compare`.
+A thin shim over `lamodel compare` (lamodel.cli); see `python scripts/compare.py --help`.
 """
 import sys
+from pathlib import Path
 
-from lamodel.compare import main
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout without installing
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        from lamodel.cli import command
+    except KeyboardInterrupt:
+        print("compare.py: interrupted", file=sys.stderr)
+        sys.exit(130)
+    sys.exit(command("compare", prog="compare.py"))

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Minimum collapse multiplier of a block assembly: python scripts/solve.py instances/wall33.dat
 
-A thin wrapper over lamodel.cli (see `python scripts/solve.py --help`).
+A thin shim over `lamodel solve` (lamodel.cli); see `python scripts/solve.py --help`.
 """
 import sys
 from pathlib import Path
@@ -10,8 +10,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 if __name__ == "__main__":
     try:
-        from lamodel.cli import solve_main  # importing Pyomo & co. takes a few seconds
+        from lamodel.cli import command
     except KeyboardInterrupt:
         print("solve.py: interrupted", file=sys.stderr)
         sys.exit(130)
-    sys.exit(solve_main())
+    sys.exit(command("solve", prog="solve.py"))

@@ -24,13 +24,13 @@ def stack_spec(n=2, width=1.0, height=1.0, mu=0.6, live=(1.0, 0.0)):
 
 @pytest.fixture
 def stack():
-    from lamodel.geometry import structure_from_json
+    from lamodel.io.jsonspec import structure_from_json
     return structure_from_json(stack_spec())
 
 
 @pytest.fixture(scope="session")
 def wall33():
-    from lamodel.datfile import read_dat
+    from lamodel.io.datfile import read_dat
     return read_dat(INSTANCES / "wall33.dat")
 
 

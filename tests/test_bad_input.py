@@ -25,13 +25,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import lamodel.driver as driver_mod
-import lamodel.results as results_mod
-from lamodel.driver import SolveOptions, solve
-from lamodel.geometry import structure_from_json
-from lamodel.lp import LimitLPs, LPResult
-from lamodel.report import outcome_results
-from lamodel.results import Results
+import lamodel.search.driver as driver_mod
+import lamodel.search.ipopt as ipopt_mod
+import lamodel.output.results as results_mod
+from lamodel.search.driver import SolveOptions, solve
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.search.lp import LimitLPs, LPResult
+from lamodel.output.report import outcome_results
+from lamodel.output.results import Results
 
 from conftest import INSTANCES, ROOT, rect, run_script, stack_spec
 
@@ -507,7 +508,7 @@ def _raise(*args, **kwargs):
 def test_failing_ipopt_worker(monkeypatch, wall33, task, status):
     options = dict(seed=0, pop_size=4, generations=2)
     lp_only = solve(wall33, SolveOptions(starts=0, **options))
-    monkeypatch.setattr(driver_mod, "_ipopt_task", task)
+    monkeypatch.setattr(ipopt_mod, "_ipopt_task", task)
     t = time.perf_counter()
     o = solve(wall33, SolveOptions(starts=1, workers=1, **options))
     assert time.perf_counter() - t < 60

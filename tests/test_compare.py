@@ -7,8 +7,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lamodel.compare import compare_results, main
-from lamodel.results import Results
+from lamodel.cli import command
+from lamodel.output.compare import compare_results
+from lamodel.output.results import Results
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPT = os.path.join(REPO, "scripts", "compare.py")
@@ -37,7 +38,7 @@ def toy(alpha=0.64, certified=True, modes=("hinging", "closed", "sliding", "open
 
 
 def run_main(capsys, a, b, *extra):
-    code = main([str(a), str(b), *extra])
+    code = command("compare", [str(a), str(b), *extra], prog="compare.py")
     out, err = capsys.readouterr()
     return code, out, err
 

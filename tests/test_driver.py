@@ -3,11 +3,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from lamodel.certify import certify, certify_flow, contact_modes, descend, residuals
-from lamodel.driver import SolveOptions, solve
-from lamodel.ga import genetic_search
-from lamodel.geometry import running_bond_wall, structure_from_json
-from lamodel.lp import LimitLPs
+from lamodel.output.modes import modes_from_flow
+from lamodel.search.certify import certify, certify_flow, descend, residuals
+from lamodel.search.driver import SolveOptions, solve
+from lamodel.search.ga import genetic_search
+from lamodel.geometry import running_bond_wall
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.search.lp import LimitLPs
 
 from conftest import INSTANCES, run_script, stack_spec
 
@@ -84,7 +86,7 @@ def test_perturbed_point_is_rejected(wall33):
     best = o.best
     # a mechanism broken by a slip on one closed contact is no mechanism at all
     xi = best.xi.copy()
-    closed = [k for k, m in enumerate(contact_modes(wall33, best.xi)) if m == "closed"]
+    closed = [k for k, m in enumerate(modes_from_flow(wall33, best.xi)) if m == "closed"]
     xi[closed[0]] += 0.05
     assert certify_flow(lps, best.u, xi) is None
     # forces pushed off their yield rows and a mechanism pushed off the flow rule: rejected
@@ -185,7 +187,7 @@ def test_exit_codes(tmp_path):
 
 @pytest.mark.parametrize("name", ["wall33", "wall55", "arch", "portal", "portal_columns"])
 def test_every_instance_certifies_from_dat_and_json_alike(name):
-    from lamodel.datfile import read_dat
+    from lamodel.io.datfile import read_dat
     a = solve(read_dat(INSTANCES / f"{name}.dat"), SolveOptions(starts=0))
     b = solve(structure_from_json(INSTANCES / f"{name}.json"), SolveOptions(starts=0))
     assert a.certified and b.certified

@@ -11,7 +11,7 @@ import pytest
 
 from conftest import ROOT, run_script
 
-TABLE1_REFERENCE = pd.read_csv(ROOT / "references" / "table1.csv")
+TABLE1_REFERENCE = pd.read_csv(ROOT / "lamodel" / "data" / "table1.csv")
 
 
 def run_example(script, *args, cwd=None, timeout=600):
@@ -131,7 +131,7 @@ def test_table1_script(tmp_path):
 # ------------------------------------------------------------------------- lamodel.studies
 def test_friction_study_on_a_stack(stack):
     """Two unit blocks stacked: they slide at alpha = mu or overturn at alpha = 1/2."""
-    from lamodel.driver import SolveOptions
+    from lamodel.search.driver import SolveOptions
     from lamodel.studies import friction_study
     mu0 = stack.mu.copy()
     df = friction_study(stack, [0.3, 0.8], SolveOptions(starts=0))

@@ -5,9 +5,10 @@ import pyomo.environ as pe
 import pytest
 
 import lamodel
-from lamodel.datfile import read_dat, write_dat
-from lamodel.model import create_abstract_model, create_model, get_state, set_state
+from lamodel.io.datfile import read_dat, write_dat
+from lamodel.formulation.model import create_abstract_model, create_model, get_state, set_state
 from lamodel.structure import YIELD_ROWS
+from lamodel.formulation.matrices import equilibrium_matrix, flow_matrix, load_vectors, yield_matrix
 
 from conftest import INSTANCES
 
@@ -65,18 +66,18 @@ def test_model_rows_agree_with_numpy_matrices(wall33):
     N, V, M = -rng.random(nc), rng.normal(size=nc), rng.normal(size=nc)
     alpha, u, xi = 0.3, rng.normal(size=3 * nb), rng.random(4 * nc)
     set_state(m, s, N, V, M, alpha, u, xi)
-    A = s.equilibrium_matrix()
-    f0, fb = s.load_vectors()
+    A = equilibrium_matrix(s)
+    f0, fb = load_vectors(s)
     eq = A @ np.concatenate([N, V, M]) + f0 + alpha * fb
     for i, con in enumerate((m.equilibrium_x, m.equilibrium_y, m.equilibrium_moment)):
         assert np.allclose(np.abs([_body(con[j]) for j in s.blocks]), np.abs(eq[i::3]), atol=1e-12)
-    Y = s.yield_matrix() @ np.concatenate([N, V, M])
+    Y = yield_matrix(s) @ np.concatenate([N, V, M])
     got = np.array([_body(m.yield_condition[k, r]) for r in YIELD_ROWS for k in s.contacts])
     assert np.allclose(got, Y)
     # compatibility: relative displacements (-A^T u) equal the flow G^T xi row by row
     q = -(A.T @ u)
-    flow = s.flow_matrix().T @ xi
-    from lamodel.model import relative_displacement
+    flow = flow_matrix(s).T @ xi
+    from lamodel.formulation.model import relative_displacement
     rel = np.array([[pe.value(x) for x in relative_displacement(m, k)] for k in s.contacts])
     assert np.allclose(rel.T.ravel(), q, atol=1e-12)
     for i, con in enumerate((m.flow_opening, m.flow_slip, m.flow_rotation)):
@@ -121,8 +122,8 @@ def test_solved_stack_is_in_equilibrium_and_overturns_at_the_known_multiplier(st
 def test_block_inside_a_users_model(stack):
     """A user's study: a horizontal tie at the top block, whose force T the user pays for,
     must keep the collapse multiplier at or above 0.8."""
-    from lamodel.certify import certify
-    from lamodel.lp import LimitLPs
+    from lamodel.search.certify import certify
+    from lamodel.search.lp import LimitLPs
     m = pe.ConcreteModel()
     m.wall = lamodel.LimitAnalysisBlock(structure=stack, objective=False)
     m.T = pe.Var(bounds=(0, 10), initialize=0.0)

@@ -1,4 +1,4 @@
-"""Mechanism pictures (lamodel.plot): kinematics of the contacts, and what is drawn."""
+"""Mechanism pictures (lamodel.output.plot): kinematics of the contacts, and what is drawn."""
 from __future__ import annotations
 
 import matplotlib
@@ -11,9 +11,11 @@ import pytest  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 from lamodel.errors import InputError  # noqa: E402
-from lamodel.geometry import seed_wall, structure_from_json  # noqa: E402
-from lamodel.plot import contact_kinematics, contact_modes, pivots, plot_mechanism  # noqa: E402
+from lamodel.geometry import seed_wall  # noqa: E402
+from lamodel.io.jsonspec import structure_from_json  # noqa: E402
+from lamodel.output.plot import contact_kinematics, contact_modes, pivots, plot_mechanism  # noqa: E402
 from lamodel.structure import Structure  # noqa: E402
+from lamodel.formulation.matrices import equilibrium_matrix  # noqa: E402
 
 
 def rect(x0, y0, x1, y1):
@@ -47,7 +49,7 @@ def test_contact_kinematics_are_the_contact_strains(wall):
     rng = np.random.default_rng(0)
     u = rng.normal(size=(wall.n_blocks, 3))
     opening, slip, rotation, _ = contact_kinematics(wall, u)
-    q = -(wall.equilibrium_matrix().T @ u.ravel())
+    q = -(equilibrium_matrix(wall).T @ u.ravel())
     nc = wall.n_contacts
     assert np.allclose(opening, q[:nc])
     assert np.allclose(slip, q[nc:2 * nc])

@@ -3,7 +3,7 @@
 Hypothesis draws stacks of 1-4 blocks, piers of offset blocks, trilithons (two piers and
 a lintel) and small running-bond walls, with a random friction coefficient in [0.2, 1]
 and a random live-load direction (a unit vector with a horizontal component). For each,
-:func:`lamodel.driver.solve` must not crash, and a certified alpha must pass the
+:func:`lamodel.search.driver.solve` must not crash, and a certified alpha must pass the
 independent residual check :func:`check_collapse_state` below — written here from the
 output tables alone, with moments about each block's own centroid (the package takes them
 about the origin) — and must not exceed the associative bound.
@@ -19,9 +19,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from lamodel.driver import SolveOptions, solve
-from lamodel.geometry import running_bond_wall, structure_from_json
-from lamodel.report import outcome_results
+from lamodel.search.driver import SolveOptions, solve
+from lamodel.geometry import running_bond_wall
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.output.report import outcome_results
 
 from conftest import rect
 

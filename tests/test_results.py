@@ -5,9 +5,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import lamodel.results as results_mod
+import lamodel.output.results as results_mod
 from lamodel.errors import InputError
-from lamodel.results import (BLOCK_COLUMNS, CONTACT_COLUMNS, MODES, RUN_COLUMNS, SUMMARY_COLUMNS,
+from lamodel.output.results import (BLOCK_COLUMNS, CONTACT_COLUMNS, MODES, RUN_COLUMNS, SUMMARY_COLUMNS,
                              Results)
 
 

@@ -22,11 +22,10 @@ from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from .errors import InputError  # noqa: E402
-from .structure import Structure  # noqa: E402
+from ..errors import InputError  # noqa: E402
+from ..structure import Structure  # noqa: E402
+from .modes import MODES, RTOL, modes_from_mechanism  # noqa: E402,F401
 
-#: Contact modes understood by :func:`plot_mechanism`.
-MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open")
 
 _BLOCK_REST = dict(facecolor="#e6e6e6", edgecolor="#9a9a9a", linewidth=0.6)
 _SUPPORT = dict(facecolor="#5a5a5a", edgecolor="#303030", linewidth=0.8, hatch="///")
@@ -85,28 +84,9 @@ def contact_kinematics(structure: Structure, u):
     return opening, slip, th, np.column_stack(gaps)
 
 
-def contact_modes(structure: Structure, u, rtol: float = 1e-6) -> list:
-    """Classify every contact as closed, sliding, hinging, sliding+hinging or open.
-
-    Relative motions smaller than ``rtol`` times the largest relative motion are zero.
-    A contact is *open* when both its ends separate, *hinging* when it opens about one
-    end, *sliding* when it slips without rotating, and both when it does both.
-    """
-    opening, slip, th, _ = contact_kinematics(structure, u)
-    d = structure.d
-    end_open = np.column_stack([opening + th * d, opening - th * d])  # at centre -/+ d t
-    scale = max(np.abs(end_open).max(initial=0.0), np.abs(slip).max(initial=0.0))
-    eps = rtol * scale if scale > 0 else np.inf
-    modes = []
-    for k in range(structure.n_contacts):
-        slides = abs(slip[k]) > eps
-        if end_open[k].min() > eps:
-            modes.append("open")
-        elif abs(th[k] * d[k]) > eps:
-            modes.append("sliding+hinging" if slides else "hinging")
-        else:
-            modes.append("sliding" if slides else "closed")
-    return modes
+def contact_modes(structure: Structure, u, rtol: float = RTOL) -> list:
+    """The mode of every contact from the block motions u (:mod:`.modes`)."""
+    return modes_from_mechanism(structure, _block_motion(structure, u), rtol)
 
 
 def pivots(structure: Structure, u) -> np.ndarray:
@@ -208,7 +188,7 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     if legend:
         ax.legend(handles=legend, loc="best", fontsize="small", framealpha=0.8)
     if path is not None:
-        from .files import atomic_write
+        from ..io.files import atomic_write
         fmt = os.path.splitext(str(path))[1].lstrip(".").lower() or "png"
         atomic_write(path, lambda tmp: ax.figure.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight"))
     if own:

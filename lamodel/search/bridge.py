@@ -9,7 +9,7 @@ solution and the multipliers back into the model.
 It is registered as the Pyomo solver ``'lamodel_ipopt'``::
 
     from pyomo.environ import SolverFactory
-    import lamodel  # registers the plugin
+    import lamodel.search.bridge  # registers the plugin
     opt = SolverFactory('lamodel_ipopt')
     opt.options['tol'] = 1e-8           # any Ipopt option passes through
     results = opt.solve(model)
@@ -28,7 +28,7 @@ from pyomo.environ import Constraint, Objective, Suffix, maximize, value
 from pyomo.opt import SolverFactory, SolverResults, SolverStatus, TerminationCondition
 from pyomo.repn import generate_standard_repn
 
-from .errors import SolverError
+from ..errors import SolverError
 
 INF = 1e20  # Ipopt takes |bound| >= 1e19 as no bound
 

@@ -1,6 +1,6 @@
 """Pyomo .dat files of block assemblies: read into a Structure, write from one.
 
-The file is plain Pyomo data for :func:`lamodel.model.create_abstract_model`::
+The file is plain Pyomo data for :func:`lamodel.formulation.model.create_abstract_model`::
 
     set BLOCKS := b1 b2 ;
     set SUPPORTS := ground ;
@@ -28,10 +28,26 @@ from collections import defaultdict
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from ..structure import BLOCK_PARAMS, CONTACT_PARAMS, Structure
 from .files import atomic_write_text
-from .model import BLOCK_PARAMS, CONTACT_PARAMS
-from .structure import Structure
+
+
+def _schema():
+    """The sets and parameters a .dat file may hold, as a Pyomo model without constraints:
+    Pyomo's reader needs their declarations (the dimension of VERTICES) to parse rows."""
+    from pyomo.environ import AbstractModel, Any, Param, Set
+    m = AbstractModel(name="lamodel data")
+    for name in ("BLOCKS", "SUPPORTS", "CONTACTS"):
+        m.add_component(name, Set(dimen=1, ordered=True))
+    m.VERTICES = Set(dimen=2, ordered=True)
+    for name in BLOCK_PARAMS:
+        m.add_component(name, Param(m.BLOCKS, within=Any))
+    for name in CONTACT_PARAMS:
+        m.add_component(name, Param(m.CONTACTS, within=Any))
+    m.vx = Param(m.VERTICES, within=Any)
+    m.vy = Param(m.VERTICES, within=Any)
+    return m
 
 
 def _fmt(v: float) -> str:
@@ -151,8 +167,6 @@ def read_dat(path) -> Structure:
     """Read a Pyomo .dat file into a validated Structure (InputError on anything wrong)."""
     from pyomo.environ import DataPortal
 
-    from .model import create_abstract_model
-
     path = os.fspath(path)
     try:
         with open(path) as fh:
@@ -161,7 +175,7 @@ def read_dat(path) -> Structure:
         raise InputError(f"{path}: cannot read the file ({exc.strerror}); expected a Pyomo .dat instance") from None
     _scan_duplicates(path, text)
     _scan_row_widths(path, text)
-    data = DataPortal(model=create_abstract_model())
+    data = DataPortal(model=_schema())
     from pyomo.dataportal import parse_datacmds
     if getattr(parse_datacmds, "dat_lexer", None) is not None:
         parse_datacmds.dat_lexer.lineno = 1  # Pyomo keeps counting lines from the previous file

@@ -16,14 +16,15 @@ Variables of the statics LPs are (N, V, M, alpha) in the order of eq. (3).
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 
 import highspy
 import numpy as np
 import scipy.sparse as sp
 
-from .structure import Structure
+from ..formulation.matrices import Formulation
+from ..structure import Structure
+from .options import Deadline
 
 INF = highspy.kHighsInf
 #: Feasibility tolerance of the LPs whose alpha is reported. HiGHS's default 1e-7 moves
@@ -110,15 +111,14 @@ class _HighsLP:
 class LimitLPs:
     """The LPs of one structure, built once and re-solved with new data."""
 
-    def __init__(self, structure: Structure, tolerance: float | None = TIGHT_TOLERANCE):
+    def __init__(self, structure: Structure, tolerance: float | None = TIGHT_TOLERANCE,
+                 formulation: Formulation | None = None):
         self.structure = s = structure
         self.tolerance = tolerance
-        self.deadline = None  # time.perf_counter() value after which LPs stop ("time limit")
+        self.deadline = Deadline()  # after it, LPs stop with status "time limit"
         self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
-        self.A = s.equilibrium_matrix()
-        self.f0, self.fbar = s.load_vectors()
-        self.Y = s.yield_matrix()
-        self.G = s.flow_matrix()
+        self.formulation = F = formulation or Formulation.of(s)
+        self.A, self.f0, self.fbar, self.Y, self.G = F.A, F.f0, F.fbar, F.Y, F.G
         self.nvar = 3 * nc + 1  # N, V, M, alpha
         E = sp.hstack([self.A, sp.csr_matrix(self.fbar.reshape(-1, 1))])
         Yrows = sp.hstack([self.Y, sp.csr_matrix((4 * nc, 1))])
@@ -151,7 +151,7 @@ class LimitLPs:
 
     def slack(self, x):
         """-(Y s): the four yield slacks per contact (>= 0 when admissible), stacked by row."""
-        return -(self.Y @ x[:3 * self.nc])
+        return self.formulation.slack(x)
 
     # -------------------------------------------------------------------------- LPs
     def associative(self) -> LPResult:
@@ -217,8 +217,8 @@ class LimitLPs:
 
     def _run(self, lp: _HighsLP) -> LPResult:
         self.n_solves += 1
-        if self.deadline is not None:  # one LP of a large model can take minutes
-            lp.h.setOptionValue("time_limit", max(self.deadline - time.perf_counter(), 1e-3))
+        if self.deadline.at is not None:  # one LP of a large model can take minutes
+            lp.h.setOptionValue("time_limit", max(self.deadline.left(), 1e-3))
         status, x, yr, yc = lp.solve()
         if status != "optimal" and status.startswith("unbounded_or"):
             lp.h.clearSolver()  # start cold to tell infeasible from unbounded
@@ -230,5 +230,4 @@ class LimitLPs:
     # ------------------------------------------------------------------ virtual work
     def kinematic_multiplier(self, u, xi, N):
         """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5)."""
-        nc = self.nc
-        return float(-self.f0 @ u - np.sum(self.structure.mu * N * (xi[:nc] + xi[nc:2 * nc])))
+        return self.formulation.kinematic_multiplier(u, xi, N)

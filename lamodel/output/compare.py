@@ -1,6 +1,6 @@
 """Compare two limit-analysis results (result folders or their summary.csv files).
 
-``python scripts/compare.py A B [--atol 1e-5]`` prints a table of the differences and
+``lamodel compare A B [--atol 1e-5]`` (or ``python scripts/compare.py A B``) prints a table of the differences and
 exits with
 
 * 0 when A and B agree within the tolerance,
@@ -27,17 +27,14 @@ NaN equals NaN; NaN against a number is a difference. Rows ``instance`` and
 """
 from __future__ import annotations
 
-import argparse
 import math
-import sys
 
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
+from ..errors import InputError
 from .results import Results
 
-PROG = "compare.py"
 DEFAULT_ATOL = 1e-5
 FORCE_COLUMNS = ("N", "V", "M")
 DISPLACEMENT_COLUMNS = ("ux", "uy", "theta")
@@ -141,43 +138,15 @@ def compare_results(a: Results, b: Results, atol: float = DEFAULT_ATOL):
     return table, bool(table["differs"].any())
 
 
-class _UsageError(Exception):
-    pass
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # one line, no usage block, exit status decided by main
-        raise _UsageError(message)
-
-
-def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog=PROG, description=(
-        "Compare two limit-analysis results (result folders or their summary.csv). "
-        "Exit 0: they agree within the tolerance; 1: they differ; 2: malformed or missing input."))
-    p.add_argument("a", metavar="A", help="reference result: a result folder or its summary.csv")
-    p.add_argument("b", metavar="B", help="result to compare with A")
-    p.add_argument("--atol", type=float, default=DEFAULT_ATOL,
-                   help="absolute tolerance on alpha; forces are compared with atol*max(1, max|N| of A), "
-                        "displacements with atol*max(1, max|u| of A) (default: %(default)g)")
-    return p
-
-
-def main(argv=None) -> int:
-    """Command-line entry point; returns the exit status (0 agree, 1 differ, 2 bad input)."""
-    try:
-        args = _parser().parse_args(argv)
-        a, b = Results.read(args.a), Results.read(args.b)
-        table, differ = compare_results(a, b, args.atol)
-    except (_UsageError, InputError) as exc:
-        print(f"{PROG}: error: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 2
+def print_comparison(table: pd.DataFrame, differ: bool, a, b, atol: float) -> int:
+    """Print the table and the verdict; returns the exit status (0 agree, 1 differ)."""
     with pd.option_context("display.max_colwidth", 200, "display.width", 250,
                            "display.float_format", lambda v: f"{v:.10g}"):
-        print(f"A: {args.a}\nB: {args.b}\n")
+        print(f"A: {a}\nB: {b}\n")
         print(table.to_string())
     bad = list(table.index[table["differs"].astype(bool)])
     if differ:
-        print(f"\nA and B differ (atol={args.atol:g}): {', '.join(bad)}")
+        print(f"\nA and B differ (atol={atol:g}): {', '.join(bad)}")
         return 1
-    print(f"\nA and B agree (atol={args.atol:g})")
+    print(f"\nA and B agree (atol={atol:g})")
     return 0

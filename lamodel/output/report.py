@@ -1,4 +1,4 @@
-"""From what the driver found to the tables of the output contract (:mod:`lamodel.results`)."""
+"""From what the driver found to the tables of the output contract (:mod:`lamodel.output.results`)."""
 from __future__ import annotations
 
 from dataclasses import asdict
@@ -6,8 +6,8 @@ from dataclasses import asdict
 import numpy as np
 import pandas as pd
 
-from .certify import contact_modes
-from .driver import Outcome
+from ..search.driver import Outcome
+from .modes import modes_from_flow
 from .results import Results
 
 
@@ -19,7 +19,7 @@ def outcome_results(outcome: Outcome) -> Results:
     if best is not None:
         u = best.u.reshape(-1, 3)
         N, V, M = best.N, best.V, best.M
-        modes = contact_modes(s, best.xi)
+        modes = modes_from_flow(s, best.xi)
     else:
         u = np.full((nb, 3), np.nan)
         N = V = M = np.full(nc, np.nan)

@@ -17,35 +17,15 @@ candidate. :func:`residuals` re-checks every condition with plain numpy.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from .lp import LimitLPs
+from .state import CollapseState
 
 #: Relative tolerances tried, tightest first, to decide which yield rows a candidate holds.
 ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
 #: A certified state must satisfy every condition to this relative accuracy.
 RESIDUAL_TOLERANCE = 1e-7
-
-
-@dataclass
-class CollapseState:
-    """An exact collapse state: forces, multiplier, mechanism and the rows that flow."""
-
-    alpha: float
-    N: np.ndarray
-    V: np.ndarray
-    M: np.ndarray
-    u: np.ndarray          # (3 nb): ux, uy, theta block after block
-    xi: np.ndarray         # (4 nc): stacked by yield row (slide+, slide-, hinge+, hinge-)
-    flow: np.ndarray       # (4 nc) bool: rows that flow
-    source: str = ""
-    residual: dict = field(default_factory=dict)
-
-    @property
-    def forces(self) -> np.ndarray:
-        return np.concatenate([self.N, self.V, self.M, [self.alpha]])
 
 
 def force_scale(lps: LimitLPs) -> float:
@@ -152,33 +132,3 @@ def descend(lps: LimitLPs, state: CollapseState, max_steps: int = 50, tol: float
             break
         state = nxt
     return state
-
-
-def contact_modes(structure, xi, tol: float = 1e-7):
-    """Mode of each contact from its flow: closed, sliding, hinging, sliding+hinging, open.
-
-    slip = xi_slide+ - xi_slide-, rotation = xi_hinge- - xi_hinge+, opening = d (xi_h+ + xi_h-).
-    'open' is a separation wider than a rotation about an edge explains.
-    """
-    nc = structure.n_contacts
-    xi = np.asarray(xi, dtype=float)
-    x1, x2, x3, x4 = xi[:nc], xi[nc:2 * nc], xi[2 * nc:3 * nc], xi[3 * nc:]
-    d = structure.d
-    slip = np.abs(x1 - x2)
-    turn = d * np.abs(x4 - x3)
-    opening = d * (x3 + x4)
-    scale = max(slip.max(initial=0.0), opening.max(initial=0.0), 1e-300)
-    eps = tol * scale
-    modes = []
-    for k in range(nc):
-        if opening[k] > turn[k] + eps:
-            modes.append("open")
-        elif turn[k] > eps and slip[k] > eps:
-            modes.append("sliding+hinging")
-        elif turn[k] > eps:
-            modes.append("hinging")
-        elif slip[k] > eps:
-            modes.append("sliding")
-        else:
-            modes.append("closed")
-    return modes

@@ -33,11 +33,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
-from .files import remove_quietly
+from ..errors import InputError
+from ..io.files import remove_quietly
+from .modes import MODES
 
-#: Contact modes of the mechanism (the ``mode`` column of contacts.csv).
-MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open")
 
 # Column name -> kind, in contract order. Kinds: "id" (text, never empty), "str" (text),
 # "float" (float64, empty or nan means NaN), "int" (int64, required), "Int" (nullable

@@ -2,7 +2,7 @@
 
 The genome is the vector of fictitious cohesions, one gene per contact, as multiples of a
 reference cohesion: c_k = g_k * c_ref_k. For a fixed c, eq. (5)'s fictitious system is an
-LP (:meth:`lamodel.lp.LimitLPs.cohesive`) whose primal is a statics and whose duals are a
+LP (:meth:`lamodel.search.lp.LimitLPs.cohesive`) whose primal is a statics and whose duals are a
 mechanism — a complete point of eq. (5), which the fitness function certifies.
 
 The GA itself is pymoo's single-objective GA (tournament selection, simulated binary

@@ -15,7 +15,9 @@ so the same components are built
 * on a ``LimitAnalysisBlock`` placed inside anyone's model (``m.wall =
   LimitAnalysisBlock(structure=s)``), which is how other Pyomo studies import it.
 
-Sign conventions are those of :mod:`lamodel.structure`.
+Sign conventions are those of :mod:`lamodel.structure`. Every coefficient comes from the
+matrices of :mod:`lamodel.formulation.matrices` (the one place where eq. 1-5 is written);
+each constraint is one row of them, so the model is built in time linear in its size.
 
 Eq. (5) is a mathematical program with complementarity constraints in disguise: since
 ``alpha_K - alpha = sum_i xi_i * slack_i >= 0`` at every feasible point, the bilinear
@@ -28,13 +30,17 @@ from __future__ import annotations
 import numpy as np
 from pyomo.common.config import Bool, ConfigBlock, ConfigValue, PositiveFloat
 from pyomo.core.base.block import BlockData, declare_custom_block
+from pyomo.core.expr.numeric_expr import LinearExpression, MonomialTermExpression
 from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Constraint, Expression, NonNegativeReals,
                            Objective, Param, Reals, Set, Var, minimize, inequality)
 
-from .structure import YIELD_ROWS, Structure
+from ..search import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt') for the users of the model
+from ..structure import BLOCK_PARAMS, CONTACT_PARAMS, YIELD_ROWS, Structure
+from .matrices import Formulation, xi_bounds
 
-BLOCK_PARAMS = ("x", "y", "dead_x", "dead_y", "live_x", "live_y")
-CONTACT_PARAMS = ("block_a", "block_b", "cx", "cy", "nx", "ny", "d", "mu")
+__all__ = ["BLOCK_PARAMS", "CONTACT_PARAMS", "LimitAnalysisBlock", "create_abstract_model", "create_model",
+           "declare_limit_analysis", "get_state", "kinematic_multiplier", "relative_displacement", "set_state",
+           "yield_row"]
 
 
 # --------------------------------------------------------------------------- declarations
@@ -50,68 +56,68 @@ def declare_sets(b, structure: Structure | None = None):
 def declare_params(b, structure: Structure | None = None, xi_factor: float = 100.0):
     """Block centroids and loads; contact ends, centres, normals, half-lengths, friction.
 
-    Without a structure the parameters wait for data (an AbstractModel and a .dat file).
+    Without a structure the parameters wait for data (an AbstractModel and a .dat file);
+    the matrices of eq. (1)-(5) are then made from them once the data are in
+    (:func:`_build_formulation`).
     """
     s = structure
+    docs = {"x": "centroid x", "y": "centroid y", "dead_x": "constant force f0, x", "dead_y": "constant force f0, y",
+            "live_x": "base live force fbar, x", "live_y": "base live force fbar, y",
+            "block_a": "block a (or a support); the force acts on a",
+            "block_b": "block b (or a support); its opposite acts on b", "cx": "contact centre x",
+            "cy": "contact centre y", "nx": "unit normal from a to b, x", "ny": "unit normal from a to b, y",
+            "d": "half-length: largest eccentricity of N", "mu": "friction coefficient"}
+    if s is not None:
+        block_cols = dict(zip(BLOCK_PARAMS, (s.centroid[:, 0], s.centroid[:, 1], s.dead[:, 0], s.dead[:, 1],
+                                             s.live[:, 0], s.live[:, 1])))
+        contact_cols = dict(zip(CONTACT_PARAMS, (s.block_a, s.block_b, s.centre[:, 0], s.centre[:, 1],
+                                                 s.normal[:, 0], s.normal[:, 1], s.d, s.mu)))
+    def data(values):  # without a structure, the values come later from a .dat file
+        return {} if s is None else {"initialize": values()}
 
-    def param(index, values, doc, within=Reals):
-        if s is None:
-            return Param(index, within=within, doc=doc)
-        return Param(index, within=within, doc=doc, initialize=values)
-
-    def by_block(col):
-        return None if s is None else {j: float(v) for j, v in zip(s.blocks, col)}
-
-    def by_contact(col, cast=float):
-        return None if s is None else {k: cast(v) for k, v in zip(s.contacts, col)}
-
-    b.x = param(b.BLOCKS, by_block(s and s.centroid[:, 0]), "centroid x")
-    b.y = param(b.BLOCKS, by_block(s and s.centroid[:, 1]), "centroid y")
-    b.dead_x = param(b.BLOCKS, by_block(s and s.dead[:, 0]), "constant force f0, x")
-    b.dead_y = param(b.BLOCKS, by_block(s and s.dead[:, 1]), "constant force f0, y")
-    b.live_x = param(b.BLOCKS, by_block(s and s.live[:, 0]), "base live force fbar, x")
-    b.live_y = param(b.BLOCKS, by_block(s and s.live[:, 1]), "base live force fbar, y")
-    b.block_a = param(b.CONTACTS, by_contact(s and s.block_a, str), "block a (or a support); the force acts on a", Any)
-    b.block_b = param(b.CONTACTS, by_contact(s and s.block_b, str), "block b (or a support); its opposite acts on b", Any)
-    b.cx = param(b.CONTACTS, by_contact(s and s.centre[:, 0]), "contact centre x")
-    b.cy = param(b.CONTACTS, by_contact(s and s.centre[:, 1]), "contact centre y")
-    b.nx = param(b.CONTACTS, by_contact(s and s.normal[:, 0]), "unit normal from a to b, x")
-    b.ny = param(b.CONTACTS, by_contact(s and s.normal[:, 1]), "unit normal from a to b, y")
-    b.d = param(b.CONTACTS, by_contact(s and s.d), "half-length: largest eccentricity of N")
-    b.mu = param(b.CONTACTS, by_contact(s and s.mu), "friction coefficient")
+    for name in BLOCK_PARAMS:
+        b.add_component(name, Param(b.BLOCKS, within=Reals, doc=docs[name],
+                                    **data(lambda: dict(zip(s.blocks, map(float, block_cols[name]))))))
+    for name in CONTACT_PARAMS:
+        text = name in ("block_a", "block_b")
+        b.add_component(name, Param(b.CONTACTS, within=Any if text else Reals, doc=docs[name], **data(
+            lambda: dict(zip(s.contacts, map(str if text else float, contact_cols[name]))))))
     # Block outlines (optional, for pictures only; no constraint uses them).
-    if s is None:
-        b.VERTICES = Set(dimen=2, ordered=True, doc="(body, vertex number), for pictures")
-    else:
-        b.VERTICES = Set(dimen=2, ordered=True, doc="(body, vertex number), for pictures",
-                         initialize=[(body, i + 1) for body, v in s.polygons.items() for i in range(len(v))])
-    vertices = None if s is None else {(body, i + 1): p for body, v in s.polygons.items() for i, p in enumerate(v)}
-    b.vx = param(b.VERTICES, vertices and {key: float(p[0]) for key, p in vertices.items()}, "vertex x")
-    b.vy = param(b.VERTICES, vertices and {key: float(p[1]) for key, p in vertices.items()}, "vertex y")
+    corners = {} if s is None else {(body, i + 1): p for body, v in s.polygons.items() for i, p in enumerate(v)}
+    b.VERTICES = Set(dimen=2, ordered=True, doc="(body, vertex number), for pictures", **data(lambda: list(corners)))
+    b.vx = Param(b.VERTICES, within=Reals, doc="vertex x", **data(lambda: {k: float(p[0]) for k, p in corners.items()}))
+    b.vy = Param(b.VERTICES, within=Reals, doc="vertex y", **data(lambda: {k: float(p[1]) for k, p in corners.items()}))
     b.xi_factor = Param(initialize=xi_factor, mutable=True, doc="room left by the bounds on xi")
     b.epsilon = Param(initialize=0.0, mutable=True, doc="allowed complementarity gap alpha_K - alpha")
-    # Which contacts touch each block, found once (a rule scanning all contacts per block
-    # would be quadratic in size).
-    b._incidence = BuildAction(rule=_build_incidence)
+    b._structure = s
+    b._formulation_action = BuildAction(rule=_build_formulation)
 
 
-def _build_incidence(b):
-    on_a = {j: [] for j in b.BLOCKS}
-    on_b = {j: [] for j in b.BLOCKS}
-    for k in b.CONTACTS:
-        if b.block_a[k] in on_a:
-            on_a[b.block_a[k]].append(k)
-        if b.block_b[k] in on_b:
-            on_b[b.block_b[k]].append(k)
-    b._contacts_on_a, b._contacts_on_b = on_a, on_b
+def _structure_of_params(b) -> Structure:
+    """The Structure held by the parameters of b (the AbstractModel + .dat route)."""
+    blocks, contacts = list(b.BLOCKS), list(b.CONTACTS)
+    col = lambda name, ids: [b.component(name)[i] for i in ids]  # noqa: E731
+    polygons = {}
+    for body, i in b.VERTICES:
+        polygons.setdefault(body, []).append((i, b.vx[body, i], b.vy[body, i]))
+    return Structure(
+        name=b.name, blocks=blocks, centroid=np.column_stack([col("x", blocks), col("y", blocks)]),
+        dead=np.column_stack([col("dead_x", blocks), col("dead_y", blocks)]),
+        live=np.column_stack([col("live_x", blocks), col("live_y", blocks)]),
+        supports=list(b.SUPPORTS), contacts=contacts, block_a=col("block_a", contacts),
+        block_b=col("block_b", contacts),
+        centre=np.column_stack([col("cx", contacts), col("cy", contacts)]).reshape(-1, 2),
+        normal=np.column_stack([col("nx", contacts), col("ny", contacts)]).reshape(-1, 2),
+        d=col("d", contacts), mu=col("mu", contacts),
+        polygons={k: [(x, y) for _, x, y in sorted(v)] for k, v in polygons.items()}).validate()
 
 
-def _xi_upper(b, k, r):
-    """Upper bound of xi (see Structure.xi_bounds): slips ~ U, hinge rotations ~ U / d."""
-    mags = [np.hypot(b.live_x[j], b.live_y[j]) for j in b.BLOCKS]
-    U = 1.0 / min(m for m in mags if m > 0)
-    # an expression of the mutable xi_factor: changing it moves the bounds
-    return (0.0, b.xi_factor * U if r.startswith("slide") else b.xi_factor * (U / b.d[k]))
+def _build_formulation(b):
+    """The matrices of eq. (1)-(5) of the structure, made once (linear in its size)."""
+    s = b._structure if b._structure is not None else _structure_of_params(b)
+    b._formulation = Formulation.of(s)
+    b._xi_base = xi_bounds(s, 1.0)
+    b._contact_index = {k: i for i, k in enumerate(s.contacts)}
 
 
 def declare_variables(b):
@@ -124,25 +130,38 @@ def declare_variables(b):
     b.ux = Var(b.BLOCKS, within=Reals, initialize=0.0, doc="centroid displacement x")
     b.uy = Var(b.BLOCKS, within=Reals, initialize=0.0, doc="centroid displacement y")
     b.theta = Var(b.BLOCKS, within=Reals, initialize=0.0, doc="rotation about the centroid")
-    b.xi = Var(b.CONTACTS, b.ROWS, bounds=_xi_upper, initialize=0.0, doc="flow multipliers of eq. (5)")
+
+    def xi_bounds_rule(b, k, r):
+        # an expression of the mutable xi_factor: changing it moves the bounds
+        return 0.0, b.xi_factor * float(b._xi_base[YIELD_ROWS.index(r) * len(b.CONTACTS) + b._contact_index[k]])
+
+    b.xi = Var(b.CONTACTS, b.ROWS, bounds=xi_bounds_rule, initialize=0.0, doc="flow multipliers of eq. (5)")
 
 
-def _force_terms(b, j):
-    """Resultant (fx, fy, m about the centroid) of the contact forces on block j."""
-    fx = fy = m = 0
-    for sign, ks in ((1.0, b._contacts_on_a[j]), (-1.0, b._contacts_on_b[j])):
-        for k in ks:
-            px = b.nx[k] * b.N[k] - b.ny[k] * b.V[k]  # N n + V t, t = (-ny, nx)
-            py = b.ny[k] * b.N[k] + b.nx[k] * b.V[k]
-            rx, ry = b.cx[k] - b.x[j], b.cy[k] - b.y[j]
-            fx += sign * px
-            fy += sign * py
-            m += sign * (rx * py - ry * px + b.M[k])
-    return fx, fy, m
+def _forces(b):
+    """The entries of s_f = (N, V, M) in the order of eq. (3) (listed once per block b)."""
+    if "_s" not in b.__dict__:
+        b._s = [b.N[k] for k in b.CONTACTS] + [b.V[k] for k in b.CONTACTS] + [b.M[k] for k in b.CONTACTS]
+    return b._s
+
+
+def _displacements(b):
+    """The entries of u = (ux, uy, theta), block after block (listed once per block b)."""
+    if "_u" not in b.__dict__:
+        b._u = [v for j in b.BLOCKS for v in (b.ux[j], b.uy[j], b.theta[j])]
+    return b._u
+
+
+def _row(matrix, i, variables):
+    """Row i of a sparse (CSR) matrix times the variables: a linear expression (built in
+    one piece: summing term by term costs several times more on large models)."""
+    lo, hi = matrix.indptr[i], matrix.indptr[i + 1]
+    return LinearExpression([MonomialTermExpression((a, variables[c]))
+                             for a, c in zip(matrix.data[lo:hi].tolist(), matrix.indices[lo:hi].tolist())])
 
 
 def declare_equilibrium(b):
-    """Eq. (1)-(2): f0 + alpha fbar + contact forces = 0 for every block (forces, moment).
+    """Eq. (1)-(2): ``A s_f + f0 + alpha fbar = 0`` for every block (forces, moment).
 
     ``extra_x``/``extra_y`` are further constant forces at the centroids, zero until a
     user's study sets them (``m.wall.extra_x['b33'] = -m.T`` for a tie whose force T is a
@@ -151,80 +170,71 @@ def declare_equilibrium(b):
     b.extra_x = Expression(b.BLOCKS, initialize=0.0, doc="user's constant force at the centroid, x (part of f0)")
     b.extra_y = Expression(b.BLOCKS, initialize=0.0, doc="user's constant force at the centroid, y (part of f0)")
 
-    def force_x(b, j):
-        return _force_terms(b, j)[0] + b.dead_x[j] + b.extra_x[j] + b.alpha * b.live_x[j] == 0
+    def rule(dof):
+        def equilibrium(b, j):
+            F, i = b._formulation, 3 * b.BLOCKS.ord(j) - 3 + dof
+            lhs = _row(F.A, i, _forces(b)) + float(F.f0[i]) + b.alpha * float(F.fbar[i])
+            return (lhs + (b.extra_x, b.extra_y)[dof][j] if dof < 2 else lhs) == 0
+        return equilibrium
 
-    def force_y(b, j):
-        return _force_terms(b, j)[1] + b.dead_y[j] + b.extra_y[j] + b.alpha * b.live_y[j] == 0
+    b.equilibrium_x = Constraint(b.BLOCKS, rule=rule(0))
+    b.equilibrium_y = Constraint(b.BLOCKS, rule=rule(1))
+    b.equilibrium_moment = Constraint(b.BLOCKS, rule=rule(2))
 
-    def moment(b, j):
-        # loads act at the centroid: no moment of their own
-        return _force_terms(b, j)[2] == 0
 
-    b.equilibrium_x = Constraint(b.BLOCKS, rule=force_x)
-    b.equilibrium_y = Constraint(b.BLOCKS, rule=force_y)
-    b.equilibrium_moment = Constraint(b.BLOCKS, rule=moment)
+def yield_row(b, k, r):
+    """Value of yield row r of eq. (4) at contact k (row of ``Y s_f``); its negative is the slack."""
+    return _row(b._formulation.Y, YIELD_ROWS.index(r) * len(b.CONTACTS) + b._contact_index[k], _forces(b))
 
 
 def declare_yield(b):
     """Eq. (4): mu N +- V <= 0 (Coulomb), d N -+ M <= 0 (no tension, eccentricity <= d)."""
-    def rule(b, k, r):
-        return yield_row(b, k, r) <= 0
-
-    b.yield_condition = Constraint(b.CONTACTS, b.ROWS, rule=rule)
+    b.yield_condition = Constraint(b.CONTACTS, b.ROWS, rule=lambda b, k, r: yield_row(b, k, r) <= 0)
 
 
-def yield_row(b, k, r):
-    """Value of yield row r at contact k; its negative is the slack."""
-    return {"slide+": b.mu[k] * b.N[k] + b.V[k],
-            "slide-": b.mu[k] * b.N[k] - b.V[k],
-            "hinge+": b.d[k] * b.N[k] - b.M[k],
-            "hinge-": b.d[k] * b.N[k] + b.M[k]}[r]
-
-
-def _displacement_at(b, j, px, py):
-    """Displacement at point p of block j (zero for a support): u + theta k x (p - x_G)."""
-    if j not in b._contacts_on_a:
-        return 0.0, 0.0, 0.0
-    return (b.ux[j] - b.theta[j] * (py - b.y[j]), b.uy[j] + b.theta[j] * (px - b.x[j]), b.theta[j])
-
-
-def relative_displacement(b, k):
-    """Opening, slip and relative rotation of block b with respect to block a at contact k."""
-    ax, ay, at = _displacement_at(b, b.block_a[k], b.cx[k], b.cy[k])
-    bx, by, bt = _displacement_at(b, b.block_b[k], b.cx[k], b.cy[k])
-    dx, dy = bx - ax, by - ay
-    return (b.nx[k] * dx + b.ny[k] * dy, -b.ny[k] * dx + b.nx[k] * dy, bt - at)
+def relative_displacement(b, k, parts=(0, 1, 2)):
+    """Opening, slip and relative rotation (``parts`` 0, 1, 2) of block b with respect to
+    block a at contact k: the contact strains ``q = -A^T u``."""
+    if "_At" not in b.__dict__:
+        b._At = (-b._formulation.A.T).tocsr()
+    i, nc = b._contact_index[k], len(b.CONTACTS)
+    return tuple(_row(b._At, i + part * nc, _displacements(b)) for part in parts)
 
 
 def declare_kinematics(b):
-    """(u, xi) in K: the flow rule of the fictitious cohesive system, and fbar^T u = 1.
+    """(u, xi) in K: the flow rule of the fictitious cohesive system ``-A^T u = G^T xi``,
+    and ``fbar^T u = 1``.
 
     The cohesive sliding rows have gradient (0, +-1, 0): slip without opening (the real
     non-associative Coulomb flow); the hinge rows (d, 0, -+1): rotation about an edge,
     opening d times the rotation. xi >= 0 keeps every opening non-negative.
     """
-    def opening(b, k):
-        return relative_displacement(b, k)[0] == b.d[k] * (b.xi[k, "hinge+"] + b.xi[k, "hinge-"])
+    def rule(part):
+        def flow(b, k):
+            if "_Gt" not in b.__dict__:
+                b._Gt = b._formulation.G.T.tocsr()
+                b._xi_list = [b.xi[c, r] for r in YIELD_ROWS for c in b.CONTACTS]
+            i = b._contact_index[k] + part * len(b.CONTACTS)
+            return relative_displacement(b, k, (part,))[0] == _row(b._Gt, i, b._xi_list)
+        return flow
 
-    def slip(b, k):
-        return relative_displacement(b, k)[1] == b.xi[k, "slide+"] - b.xi[k, "slide-"]
+    b.flow_opening = Constraint(b.CONTACTS, rule=rule(0))
+    b.flow_slip = Constraint(b.CONTACTS, rule=rule(1))
+    b.flow_rotation = Constraint(b.CONTACTS, rule=rule(2))
 
-    def rotation(b, k):
-        return relative_displacement(b, k)[2] == b.xi[k, "hinge-"] - b.xi[k, "hinge+"]
+    def normalisation(b):
+        fbar, u = b._formulation.fbar, _displacements(b)
+        return sum(float(fbar[i]) * u[i] for i in np.flatnonzero(fbar)) == 1
 
-    b.flow_opening = Constraint(b.CONTACTS, rule=opening)
-    b.flow_slip = Constraint(b.CONTACTS, rule=slip)
-    b.flow_rotation = Constraint(b.CONTACTS, rule=rotation)
-    b.normalisation = Constraint(
-        rule=lambda b: sum(b.live_x[j] * b.ux[j] + b.live_y[j] * b.uy[j] for j in b.BLOCKS) == 1)
+    b.normalisation = Constraint(rule=normalisation)
 
 
 def kinematic_multiplier(b):
-    """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5): the work of the dead loads plus the
-    dissipation on the fictitious cohesion -mu N."""
-    dead_work = sum((b.dead_x[j] + b.extra_x[j]) * b.ux[j] + (b.dead_y[j] + b.extra_y[j]) * b.uy[j]
-                    for j in b.BLOCKS)
+    """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5): the work of the dead loads (with the
+    user's extra forces) plus the dissipation on the fictitious cohesion -mu N."""
+    f0, u = b._formulation.f0, _displacements(b)
+    dead_work = sum(float(f0[i]) * u[i] for i in np.flatnonzero(f0))
+    dead_work += sum(b.extra_x[j] * b.ux[j] + b.extra_y[j] * b.uy[j] for j in b.BLOCKS)
     dissipation = sum(b.mu[k] * b.N[k] * (b.xi[k, "slide+"] + b.xi[k, "slide-"]) for k in b.CONTACTS)
     return -dead_work - dissipation
 

@@ -1,0 +1,141 @@
+"""Eq. (1)-(5) as sparse matrices: the one place where the mechanics is written.
+
+Everything that solves or checks eq. (5) — the Pyomo model (:mod:`.model`), the LPs of the
+search (:mod:`lamodel.search.lp`), the certification and the tests — takes its
+coefficients from here. Conventions are those of :mod:`lamodel.structure`:
+
+* statics ``s = (N, V, M, alpha)`` (eq. 3); equilibrium ``A s_f + f0 + alpha fbar = 0``
+  (eq. 1-2), A of size 3 nb x 3 nc, block rows ``(f_x, f_y, m)``;
+* yield ``Y s_f <= 0`` (eq. 4), rows stacked by kind slide+, slide-, hinge+, hinge-;
+* kinematics of the fictitious cohesive system ``-A^T u = G^T xi``, ``xi >= 0``,
+  ``fbar^T u = 1``;
+* ``alpha_K = -u^T f0 - xi^T N_mu s_N`` (eq. 5).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..structure import Structure
+
+
+def equilibrium_matrix(s: Structure) -> sp.csr_matrix:
+    """A of eq. (2): block resultants (3 nb) produced by the contact forces (3 nc).
+
+    Column k (N_k), nc+k (V_k), 2nc+k (M_k). ``N n + V t`` at the contact centre and the
+    couple M act on block a and, reversed, on block b; moments are about the centroids
+    (eq. 1's ``(x_ck - x_G) ^ (V t + N n) +- M k``).
+    """
+    nb, nc = s.n_blocks, s.n_contacts
+    ia, ib = s.contact_blocks()
+    n, t, c = s.normal, s.tangent, s.centre
+    rows, cols, vals = [], [], []
+
+    def put(blk, sign):
+        on = blk >= 0
+        k = np.flatnonzero(on)
+        j = blk[on]
+        r = c[k] - s.centroid[j]  # lever arm from the centroid to the contact centre
+        for col0, vec in ((0, n), (nc, t)):
+            f = vec[k]
+            rows.extend([3 * j, 3 * j + 1, 3 * j + 2])
+            cols.extend([col0 + k] * 3)
+            vals.extend([sign * f[:, 0], sign * f[:, 1], sign * (r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0])])
+        rows.append(3 * j + 2)
+        cols.append(2 * nc + k)
+        vals.append(sign * np.ones(k.size))
+
+    put(ia, 1.0)
+    put(ib, -1.0)
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(3 * nb, 3 * nc))
+
+
+def load_vectors(s: Structure):
+    """(f0, fbar) of eq. (2), each of length 3 nb: forces at the centroids (no couple)."""
+    nb = s.n_blocks
+    f0 = np.zeros(3 * nb)
+    fb = np.zeros(3 * nb)
+    f0[0::3], f0[1::3] = s.dead[:, 0], s.dead[:, 1]
+    fb[0::3], fb[1::3] = s.live[:, 0], s.live[:, 1]
+    return f0, fb
+
+
+def yield_matrix(s: Structure) -> sp.csr_matrix:
+    """Rows of eq. (4), ``Y s_f <= 0``, stacked by kind (4 nc x 3 nc).
+
+    slide+: mu N + V, slide-: mu N - V, hinge+: d N - M, hinge-: d N + M.
+    """
+    nc = s.n_contacts
+    I = sp.identity(nc, format="csr")
+    Mu, D, Z = sp.diags(s.mu), sp.diags(s.d), sp.csr_matrix((nc, nc))
+    return sp.bmat([[Mu, I, Z], [Mu, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
+
+
+def flow_matrix(s: Structure) -> sp.csr_matrix:
+    """Gradients of the fictitious cohesive yield rows (eq. 5's system), 4 nc x 3 nc.
+
+    The cohesive law replaces mu N by the cohesion -mu N of the real forces, so sliding
+    rows carry no normal component (no dilatancy); hinge rows are those of eq. (4).
+    Contact strains (opening, slip, rotation) follow the flow rule ``q = G^T xi``.
+    """
+    nc = s.n_contacts
+    I = sp.identity(nc, format="csr")
+    D, Z = sp.diags(s.d), sp.csr_matrix((nc, nc))
+    return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
+
+
+def xi_bounds(s: Structure, factor: float = 100.0) -> np.ndarray:
+    """Upper bounds on the 4 nc flow multipliers, from the data.
+
+    A mechanism normalised by ``fbar^T u = 1`` moves a block carrying the smallest live
+    load by at most about 1/|fbar_min|; slips are lengths of that size, hinge rotations
+    that size over d. ``factor`` leaves ample room. Without such a bound, multipliers of
+    order 1e7 on contacts with N ~ 0 turn 1e-8 violations into a fake, low alpha.
+    """
+    mag = np.hypot(s.live[:, 0], s.live[:, 1])
+    U = 1.0 / mag[mag > 0].min()
+    slide = np.full(s.n_contacts, factor * U)
+    hinge = factor * U / s.d
+    return np.concatenate([slide, slide, hinge, hinge])
+
+
+def kinematic_multiplier(f0, mu, u, xi, N) -> float:
+    """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5): the work of the dead loads plus the
+    dissipation on the fictitious cohesion -mu N (only the sliding rows dissipate)."""
+    nc = len(mu)
+    return float(-np.dot(f0, u) - np.sum(mu * N * (xi[:nc] + xi[nc:2 * nc])))
+
+
+@dataclass
+class Formulation:
+    """The matrices of one structure, built once (every solver of it shares them)."""
+
+    structure: Structure
+    A: sp.csr_matrix
+    f0: np.ndarray
+    fbar: np.ndarray
+    Y: sp.csr_matrix
+    G: sp.csr_matrix
+
+    @classmethod
+    def of(cls, s: Structure) -> "Formulation":
+        f0, fbar = load_vectors(s)
+        return cls(s, equilibrium_matrix(s), f0, fbar, yield_matrix(s), flow_matrix(s))
+
+    @property
+    def nb(self) -> int:
+        return self.structure.n_blocks
+
+    @property
+    def nc(self) -> int:
+        return self.structure.n_contacts
+
+    def slack(self, s_f) -> np.ndarray:
+        """-(Y s_f): the four yield slacks per contact (>= 0 when admissible), stacked by row."""
+        return -(self.Y @ s_f[:3 * self.nc])
+
+    def kinematic_multiplier(self, u, xi, N) -> float:
+        return kinematic_multiplier(self.f0, self.structure.mu, u, xi, N)

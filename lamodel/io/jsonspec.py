@@ -1,0 +1,290 @@
+"""JSON geometry of a block assembly: convex polygons in, a Structure out (and back).
+
+A structure is described in JSON by the polygons of its bodies (movable blocks and fixed
+supports); everything the limit analysis needs — centroids, weights, live loads and the
+contact interfaces of eq. (1)-(4) — is derived here, so that instances are never typed by
+hand. The JSON format::
+
+    { "name": "wall33",
+      "description": "free text (optional)",
+      "mu": 0.65,                 # friction of every contact
+      "unit_weight": 1.0,         # optional, default 1: weight per unit area (unit width)
+      "live_load": [1.0, 0.0],    # optional, default [1, 0]: live force per unit weight
+      "tolerance": 1e-9,          # optional: geometric tolerance relative to the model size
+      "blocks": [ {"id": "b1", "vertices": [[0,0],[2,0],[2,1.75],[0,1.75]]},
+                  {"id": "ground", "vertices": [[-1,-1],[21,-1],[21,0],[-1,0]],
+                   "support": true} ] }
+
+Per body, optional: ``"support": true`` (a fixed body), ``"dead": [fx, fy]`` and
+``"live": [fx, fy]`` replacing the computed loads, ``"mu"`` (a contact takes the smaller
+``mu`` of its two bodies), ``"description"``.
+
+Loads. The dead load of a block is its weight ``unit_weight * area`` pointing down; its live
+load is ``live_load * unit_weight * area`` (the base load that alpha multiplies). Both act
+at the centroid of the polygon.
+
+Contacts. Two bodies are in contact where an edge of one and an edge of the other lie on
+one line (within the tolerance), face each other (opposite outward normals) and overlap
+over a positive length. Two convex bodies with disjoint interiors touch along at most one
+segment, so there is at most one contact per pair of bodies. The contact's centre is the
+midpoint of the overlap and ``d`` its half-length (the largest eccentricity of N).
+
+Orientation conventions (the ``a -> b`` normal of :mod:`lamodel.structure`):
+
+* a contact with a support has the **support as block a**: the normal points from the
+  support into the block (up, for the ground);
+* a contact between two blocks has as block a the body whose outward normal points up
+  (``n_y > 0``) or, for a vertical joint, to the right (``n_x > 0``): a is below b, or
+  left of b. In a wall, bed joints have ``n = (0, 1)`` and head joints ``n = (1, 0)``.
+
+Contact ids are ``c1, c2, ...`` sorted by the positions, in the JSON list of bodies, of the
+two bodies of the contact (first the smaller position, then the larger), so they do not
+depend on how the contacts were found.
+
+Contact detection is linear-logarithmic in the number of bodies: a sweep over bounding
+boxes sorted along one axis proposes pairs of bodies, and the exact tests (separating axes
+for interpenetration, collinear facing edges for contacts) run vectorised over all pairs.
+"""
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry.contacts import _area_centroid, _clean_polygons, find_contacts
+from ..structure import Structure
+
+#: Geometric tolerance relative to the size of the model (diagonal of its bounding box):
+#: points closer than ``DEFAULT_TOLERANCE * size`` are the same point.
+DEFAULT_TOLERANCE = 1e-9
+
+TOP_FIELDS = ("name", "description", "mu", "unit_weight", "live_load", "tolerance", "blocks")
+BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "mu", "description")
+
+
+# ================================================================== reading the JSON
+def structure_from_json(source, name: str | None = None, tolerance: float | None = None) -> Structure:
+    """Build a :class:`Structure` from a JSON file (path) or an already parsed dict.
+
+    ``name`` overrides the ``"name"`` field (default: the file stem). ``tolerance``
+    overrides the ``"tolerance"`` field (relative to the model size). Raises
+    :class:`InputError` naming the file and the body for anything that is not a valid
+    assembly of convex blocks; unknown fields only give a warning.
+    """
+    spec, where = _load_spec(source)
+    return _build(spec, where, name=name, tolerance=tolerance)
+
+
+def _load_spec(source):
+    if isinstance(source, dict):
+        return source, f"geometry '{source.get('name', '<dict>')}'"
+    path = Path(source)
+    where = str(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise InputError(f"{where}: cannot read the geometry file ({exc.strerror}); expected a readable JSON file") from None
+    try:
+        spec = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{where}: malformed JSON at line {exc.lineno}, column {exc.colno} ({exc.msg}); "
+                         "expected a JSON object describing the blocks") from None
+    if not isinstance(spec, dict):
+        raise InputError(f"{where}: the file holds a JSON {type(spec).__name__}; expected a JSON object with a 'blocks' list")
+    if "name" not in spec:
+        spec = dict(spec, name=path.stem)
+    return spec, where
+
+
+def _number(value, where, what, minimum=None):
+    """A finite float from JSON, or an InputError saying what was expected."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where}: {what} is {json.dumps(value)}; expected a finite number")
+    if minimum is not None and value < minimum:
+        raise InputError(f"{where}: {what} is {value}; expected a number >= {minimum}")
+    return float(value)
+
+
+def _vector2(value, where, what):
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise InputError(f"{where}: {what} is {json.dumps(value)}; expected a pair [x, y] of numbers")
+    return np.array([_number(v, where, what) for v in value])
+
+
+def _warn_unknown(where, keys, known, kind):
+    unknown = sorted(set(keys) - set(known))
+    if unknown:
+        warnings.warn(f"{where}: unknown {kind} field(s) {', '.join(repr(k) for k in unknown)} ignored; "
+                      f"known fields are {', '.join(known)}", stacklevel=4)
+
+
+def _build(spec, where, name=None, tolerance=None) -> Structure:
+    _warn_unknown(where, spec.keys(), TOP_FIELDS, "top-level")
+    bodies = spec.get("blocks")
+    if not isinstance(bodies, list) or not bodies:
+        raise InputError(f"{where}: 'blocks' is missing or empty; expected a list of blocks with 'id' and 'vertices'")
+    name = str(name if name is not None else spec.get("name") or "structure")
+    mu_all = _number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
+    unit_weight = _number(spec.get("unit_weight", 1.0), where, "'unit_weight'", 0.0)
+    live_load = _vector2(spec.get("live_load", [1.0, 0.0]), where, "'live_load'")
+    rel_tol = tolerance if tolerance is not None else spec.get("tolerance", DEFAULT_TOLERANCE)
+    rel_tol = _number(rel_tol, where, "'tolerance'", 0.0)
+
+    # --- per body: id, raw vertices, flags (parsed first: the tolerance needs the size)
+    ids, raw, is_support, mus, dead_over, live_over = [], [], [], [], {}, {}
+    seen, unknown = {}, set()
+    for pos, body in enumerate(bodies):
+        if not isinstance(body, dict):
+            raise InputError(f"{where}: blocks[{pos}] is {json.dumps(body)[:40]}; expected an object with 'id' and 'vertices'")
+        if "id" not in body or isinstance(body["id"], (dict, list, bool)) or body["id"] is None:
+            raise InputError(f"{where}: blocks[{pos}] has no valid 'id'; expected a string or integer id")
+        bid = str(body["id"])
+        at = f"{where}: block '{bid}'"
+        if bid in seen:
+            raise InputError(f"{at} is declared twice (blocks[{seen[bid]}] and blocks[{pos}]); expected unique ids")
+        seen[bid] = pos
+        unknown |= set(body) - set(BODY_FIELDS)
+        if "vertices" not in body:
+            raise InputError(f"{at} has no 'vertices'; expected a list of [x, y] corners of a convex polygon")
+        verts = body["vertices"]
+        if not isinstance(verts, list) or not all(isinstance(v, (list, tuple)) and len(v) == 2 for v in verts):
+            raise InputError(f"{at}: 'vertices' is not a list of [x, y] pairs; expected [[x1, y1], [x2, y2], ...]")
+        if len(verts) < 3:
+            raise InputError(f"{at} has {len(verts)} vertices; expected at least 3 corners of a convex polygon")
+        raw.append(np.array([[_number(c, at, "a vertex coordinate") for c in v] for v in verts]))
+        support = body.get("support", False)
+        if not isinstance(support, bool):
+            raise InputError(f"{at}: 'support' is {json.dumps(support)}; expected true or false")
+        is_support.append(support)
+        if "mu" in body:
+            mus.append(_number(body["mu"], at, "'mu'", 0.0))
+        elif mu_all is None:
+            raise InputError(f"{at} has no friction coefficient; expected a top-level 'mu' or a 'mu' on every block")
+        else:
+            mus.append(mu_all)
+        for key, store in (("dead", dead_over), ("live", live_over)):
+            if key in body:
+                if support:
+                    warnings.warn(f"{at} is a support: its '{key}' load is ignored", stacklevel=3)
+                else:
+                    store[pos] = _vector2(body[key], at, f"'{key}'")
+        ids.append(bid)
+    if unknown:
+        _warn_unknown(where, unknown, BODY_FIELDS, "block")
+    is_support = np.array(is_support, dtype=bool)
+    if not is_support.any():
+        raise InputError(f"{where}: no block is a support; expected at least one body with \"support\": true")
+    if is_support.all():
+        raise InputError(f"{where}: every body is a support; expected at least one movable block")
+
+    allv = np.vstack(raw)
+    size = float(np.hypot(*(allv.max(axis=0) - allv.min(axis=0)))) or 1.0
+    tol = rel_tol * size
+
+    polygons = _clean_polygons(raw, tol, ids, where)
+    area, centroid = _area_centroid(polygons)
+
+    contacts = find_contacts(polygons, is_support, tol, ids=ids, where=where)
+    ia, ib = contacts["a"], contacts["b"]
+
+    moving = np.flatnonzero(~is_support)
+    touched = np.zeros(len(ids), dtype=bool)
+    touched[ia] = touched[ib] = True
+    free = moving[~touched[moving]]
+    if free.size:
+        raise InputError(f"{where}: block '{ids[free[0]]}' touches no other body (a free body); "
+                         "expected every block to share an edge segment with a block or a support")
+
+    weight = unit_weight * area[moving]
+    dead = np.column_stack([np.zeros_like(weight), -weight])
+    live = weight[:, None] * live_load[None, :]
+    row = {int(p): r for r, p in enumerate(moving)}
+    for pos, f in dead_over.items():
+        dead[row[pos]] = f
+    for pos, f in live_over.items():
+        live[row[pos]] = f
+
+    mus = np.asarray(mus)
+    structure = Structure(
+        name=name,
+        blocks=[ids[j] for j in moving],
+        centroid=centroid[moving],
+        dead=dead,
+        live=live,
+        supports=[ids[j] for j in np.flatnonzero(is_support)],
+        contacts=[f"c{k + 1}" for k in range(ia.size)],
+        block_a=[ids[j] for j in ia],
+        block_b=[ids[j] for j in ib],
+        centre=contacts["centre"],
+        normal=contacts["normal"],
+        d=contacts["d"],
+        mu=np.minimum(mus[ia], mus[ib]),
+        polygons={b: p for b, p in zip(ids, polygons)},
+    )
+    try:
+        return structure.validate()
+    except InputError as exc:  # name the file, not the structure ("structure 'x': ...")
+        raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
+
+
+# ==================================================================== writing JSON
+def structure_to_json(source, path=None) -> dict:
+    """The JSON spec of a generated geometry (a dict) or of a Structure; written to
+    ``path`` if given (one body per line, so that files diff well). Returns the dict.
+
+    A Structure is written with explicit ``dead`` and ``live`` loads per block; its
+    friction is written as a top-level ``mu`` when all contacts share one value, else per
+    body (the largest of its contacts), which must reproduce every contact's ``mu`` as
+    the smaller of its two bodies' values.
+    """
+    spec = source if isinstance(source, dict) else _spec_of_structure(source)
+    if path is not None:
+        lines = ["{"]
+        for key, value in spec.items():
+            if key != "blocks":
+                lines.append(f"  {json.dumps(key)}: {json.dumps(value)},")
+        lines.append('  "blocks": [')
+        bodies = spec.get("blocks", [])
+        for k, body in enumerate(bodies):
+            lines.append("    " + json.dumps(body) + ("," if k + 1 < len(bodies) else ""))
+        lines += ["  ]", "}"]
+        Path(path).write_text("\n".join(lines) + "\n")
+    return spec
+
+
+def _spec_of_structure(s: Structure) -> dict:
+    missing = [b for b in s.blocks + s.supports if b not in s.polygons]
+    if missing:
+        raise InputError(f"structure '{s.name}': block '{missing[0]}' has no polygon; expected polygons for every "
+                         "body to write the geometry as JSON")
+    spec = {"name": s.name}
+    uniform = s.n_contacts and np.allclose(s.mu, s.mu[0], rtol=0, atol=1e-15)
+    body_mu = {}
+    if uniform:
+        spec["mu"] = float(s.mu[0])
+    else:
+        for k in range(s.n_contacts):
+            for x in (s.block_a[k], s.block_b[k]):
+                body_mu[x] = max(body_mu.get(x, 0.0), float(s.mu[k]))
+        for k in range(s.n_contacts):
+            if min(body_mu[s.block_a[k]], body_mu[s.block_b[k]]) != s.mu[k]:
+                raise InputError(f"structure '{s.name}': the friction of contact '{s.contacts[k]}' cannot be written "
+                                 "as the smaller 'mu' of its two bodies; expected friction given per body")
+    blocks = []
+    for j, b in enumerate(s.blocks):
+        body = {"id": b, "vertices": s.polygons[b].tolist(),
+                "dead": s.dead[j].tolist(), "live": s.live[j].tolist()}
+        if b in body_mu:
+            body["mu"] = body_mu[b]
+        blocks.append(body)
+    for b in s.supports:
+        body = {"id": b, "vertices": s.polygons[b].tolist(), "support": True}
+        if b in body_mu:
+            body["mu"] = body_mu[b]
+        blocks.append(body)
+    spec["blocks"] = blocks
+    return spec

@@ -1,0 +1,46 @@
+"""The one classifier of contact modes: closed, sliding, hinging, sliding+hinging, open.
+
+A contact's mode is read from its strains ``q = (opening, slip, rotation)`` at the centre —
+from the flow multipliers (``q = G^T xi``) or from the block motions (``q = -A^T u``); the
+two agree for a compatible mechanism (:mod:`lamodel.formulation.matrices`). The ends of the
+contact, ``centre -/+ d t``, open by ``opening +/- rotation d``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: Contact modes of a mechanism (the ``mode`` column of contacts.csv).
+MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open")
+
+#: Motions smaller than this fraction of the largest one are taken as zero.
+RTOL = 1e-7
+
+
+def classify(d, opening, slip, rotation, rtol: float = RTOL) -> list:
+    """Mode of each contact: *open* when both ends separate, *hinging* when it opens about
+    one end, *sliding* when it slips, *sliding+hinging* when it does both."""
+    d, opening, slip, rotation = (np.asarray(x, dtype=float) for x in (d, opening, slip, rotation))
+    ends = np.column_stack([opening + rotation * d, opening - rotation * d])
+    scale = max(np.abs(ends).max(initial=0.0), np.abs(slip).max(initial=0.0))
+    eps = rtol * scale if scale > 0 else np.inf
+    slides = np.abs(slip) > eps
+    turns = np.abs(rotation * d) > eps
+    opens = ends.min(axis=1) > eps
+    return ["open" if o else ("sliding+hinging" if s else "hinging") if t else ("sliding" if s else "closed")
+            for o, s, t in zip(opens, slides, turns)]
+
+
+def modes_from_flow(structure, xi, rtol: float = RTOL) -> list:
+    """Modes from the flow multipliers xi (4 nc, stacked slide+, slide-, hinge+, hinge-)."""
+    from ..formulation.matrices import flow_matrix
+    q = flow_matrix(structure).T @ np.asarray(xi, dtype=float)
+    nc = structure.n_contacts
+    return classify(structure.d, q[:nc], q[nc:2 * nc], q[2 * nc:], rtol)
+
+
+def modes_from_mechanism(structure, u, rtol: float = RTOL) -> list:
+    """Modes from the block motions u ((nb, 3) or 3 nb: ux, uy, theta)."""
+    from ..formulation.matrices import equilibrium_matrix
+    q = -(equilibrium_matrix(structure).T @ np.asarray(u, dtype=float).ravel())
+    nc = structure.n_contacts
+    return classify(structure.d, q[:nc], q[nc:2 * nc], q[2 * nc:], rtol)

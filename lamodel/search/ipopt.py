@@ -1,0 +1,158 @@
+"""Ipopt on eq. (5) in worker processes: each builds the Pyomo model once, then solves
+the relaxed bilinear condition 0 <= alpha_K - alpha <= epsilon with epsilon driven to 0
+(warm starts), from the states the LP search found. Every Ipopt point is certified by the
+parent (:mod:`.certify`); nothing Ipopt says is reported unchecked.
+"""
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+
+import numpy as np
+
+from ..structure import Structure
+from .certify import certify, descend
+from .options import Deadline
+from .state import CollapseState, Run
+
+#: epsilon ladder for the relaxed bilinear condition, as fractions of max(1, alpha)
+EPSILON_LADDER = (1e-3, 1e-5, 0.0)
+#: Ipopt options for the warm-started ladder (start points are nearly feasible)
+IPOPT_OPTIONS = {"tol": 1e-8, "acceptable_tol": 1e-6, "constr_viol_tol": 1e-9, "mu_init": 1e-6,
+                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 150, "mumps_pivot_order": 0,
+                 # Ipopt relaxes bounds by 1e-8 by default: a tension N = +1e-8 on an open joint
+                 # times xi at its bound makes a fake, lower alpha_K (measured on wall55: 4.5e-5).
+                 "bound_relax_factor": 0.0}
+
+
+#: Ipopt's return codes in a word or two (runs.csv's status column)
+IPOPT_STATUS = {0: "optimal", 1: "acceptable", 2: "infeasible", 3: "step too small", 4: "diverging",
+                5: "user stop", 6: "feasible point", -1: "iteration limit", -2: "restoration failed",
+                -3: "step error", -4: "time limit", -10: "too few degrees of freedom", -11: "invalid problem",
+                -12: "invalid option", -13: "invalid number", -199: "internal error"}
+
+
+# ----------------------------------------------------------------------- Ipopt workers
+_WORKER = {}
+
+
+def _init_worker(structure: Structure, xi_factor: float, solver: str):
+    """Build the Pyomo model of eq. (5) and compile it for Ipopt, once per worker."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    from ..formulation.model import create_model
+    from .bridge import QuadraticNLP
+    m = create_model(structure, xi_factor=xi_factor)
+    _WORKER.update(model=m, nlp=QuadraticNLP(m) if solver == "lamodel_ipopt" else None, structure=structure)
+
+
+def _warm(_):
+    return os.getpid()
+
+
+def start_pool(structure, opt):
+    workers = opt.workers or os.cpu_count() or 1
+    workers = max(1, min(workers, opt.starts))
+    # fork before any HiGHS thread exists in this process; workers build their models
+    # while the GA runs here.
+    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                               initargs=(structure, opt.xi_factor, opt.solver))
+    for _ in range(workers):
+        pool.submit(_warm, None)
+    return pool
+
+
+def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LADDER, options=None,
+                 deadline: Deadline = Deadline()):
+    """Solve eq. (5) from a start with 0 <= alpha_K - alpha <= epsilon, epsilon -> 0.
+
+    Each stage warm-starts from the previous one (primal and multipliers). Returns
+    (state arrays, Ipopt status message, iterations).
+    """
+    from ..formulation.model import get_state, set_state
+    set_state(model, structure, start.N, start.V, start.M, start.alpha, start.u, start.xi)
+    x = nlp.start_point()
+    scale = max(1.0, abs(start.alpha))
+    iterations, message, mult = 0, "not run", None
+    for frac in ladder:
+        model.epsilon.set_value(frac * scale)
+        opts = dict(IPOPT_OPTIONS)
+        opts.update(options or {})
+        if mult is not None:
+            opts.update(warm_start_init_point="yes", warm_start_bound_push=1e-9, warm_start_mult_bound_push=1e-9)
+        if deadline.at is not None:
+            left = deadline.left()
+            if left <= 0.5:
+                message = "time limit"
+                break
+            opts["max_cpu_time"] = float(left)
+        if nlp is None:  # Pyomo's own interface to an ipopt executable (warm start: primal only)
+            from pyomo.environ import SolverFactory
+            opts = {k: v for k, v in opts.items() if not k.startswith("warm_start")}
+            res = SolverFactory("ipopt").solve(model, options=opts, load_solutions=False)
+            message = str(res.solver.termination_condition)
+            if len(res.solution) == 0:
+                break
+            model.solutions.load_from(res)
+            continue
+        out = nlp.solve(x0=x, options=opts, load=True, multipliers=mult)
+        iterations += out["iterations"]
+        message = IPOPT_STATUS.get(out["status"], f"ipopt status {out['status']}")
+        if out["status"] in (-3, -10, -11, -12, -13, -199):
+            break
+        x, mult = out["x"], (out["mult_g"], out["mult_x_L"], out["mult_x_U"])
+    return get_state(model, structure), message, iterations
+
+
+def _ipopt_task(start_id, start: CollapseState, ladder, options, deadline: Deadline):
+    t = time.perf_counter()
+    state, message, iterations = ipopt_ladder(_WORKER["model"], _WORKER["nlp"], _WORKER["structure"], start,
+                                              ladder, options, deadline)
+    return start_id, state, message, iterations, time.perf_counter() - t
+
+
+def ipopt_multistart(pool, lps, starts, archive, runs, opt, deadline):
+    """Solve eq. (5) from each start in the pool; certify each point into ``archive``;
+    one Run per start in ``runs`` (also for those the deadline or Ctrl-C stopped)."""
+    futures = {}
+    for i, st in enumerate(starts, start=1):
+        fut = pool.submit(_ipopt_task, i, st, EPSILON_LADDER, opt.ipopt_options, deadline)
+        futures[fut] = (i, st)
+    from tqdm import tqdm
+    bar = tqdm(total=len(futures), desc="Ipopt on eq. 5", unit="start", leave=False, disable=not opt.progress)
+    try:
+        for fut in as_completed(futures, timeout=None if deadline.at is None else max(deadline.left(), 0) + 30):
+            bar.update()
+            i, st = futures[fut]
+            source = f"ipopt from {st.source} (alpha {st.alpha:.6f})"
+            try:
+                _, (N, V, M, alpha, u, xi), message, iterations, seconds = fut.result()
+            except BrokenProcessPool:
+                runs.append(Run(i, source, status="worker died"))
+                continue
+            except Exception as exc:  # a failed solve is recorded, never fatal
+                runs.append(Run(i, source, status=f"failed: {type(exc).__name__}: {exc}"))
+                continue
+            state = certify(lps, N, V, M, alpha, u, xi, source="ipopt")
+            if state is not None:
+                state = descend(lps, state)
+                archive.add(state)
+            runs.append(Run(i, source, alpha, message, state.alpha if state else np.nan, iterations, seconds))
+    except TimeoutError:
+        pass
+    except KeyboardInterrupt:
+        for fut, (i, st) in futures.items():
+            if not any(r.start == i for r in runs):
+                runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="interrupted"))
+        raise
+    finally:
+        bar.close()
+    for fut, (i, st) in futures.items():
+        if not any(r.start == i for r in runs):
+            fut.cancel()
+            runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="time limit"))
+    runs.sort(key=lambda r: r.start)

@@ -1,0 +1,79 @@
+"""The options of a solve, validated once, and the one clock every part of it reads."""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+from ..errors import InputError
+
+SOLVERS = ("lamodel_ipopt", "ipopt")
+
+
+@dataclass
+class SolveOptions:
+    """What a user can choose about a solve (``lamodel solve --help`` lists the same)."""
+
+    seed: int = 0
+    starts: int = 2                # Ipopt solves of eq. (5)
+    workers: int | None = None     # worker processes (default: all cores)
+    time_limit: float | None = None
+    pop_size: int = 10
+    generations: int = 5
+    chain: int = 4                 # fixed-point LP steps per fitness evaluation
+    xi_factor: float = 100.0
+    ipopt_options: dict = field(default_factory=dict)
+    solver: str = "lamodel_ipopt"  # or "ipopt": Pyomo's interface to an ipopt executable on PATH
+    progress: bool = False
+
+    def __post_init__(self):
+        self.validate()
+
+    def validate(self) -> "SolveOptions":
+        """Raise InputError (one line) on an option no solve can use."""
+        def whole(name, minimum, allow_none=False):
+            v = getattr(self, name)
+            if v is None and allow_none:
+                return
+            if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
+                raise InputError(f"option {name} is {v!r}; expected a whole number >= {minimum}")
+        whole("seed", -2**63)
+        whole("starts", 0)
+        whole("workers", 1, allow_none=True)
+        whole("pop_size", 2)
+        whole("generations", 1)
+        whole("chain", 1)
+        if self.time_limit is not None and not (isinstance(self.time_limit, (int, float))
+                                                and self.time_limit > 0 and math.isfinite(self.time_limit)):
+            raise InputError(f"option time_limit is {self.time_limit!r}; expected a number of seconds > 0")
+        if not (isinstance(self.xi_factor, (int, float)) and self.xi_factor > 0):
+            raise InputError(f"option xi_factor is {self.xi_factor!r}; expected a number > 0")
+        if self.solver not in SOLVERS:
+            raise InputError(f"solver '{self.solver}' is unknown; expected 'lamodel_ipopt' or 'ipopt'")
+        return self
+
+
+@dataclass(frozen=True)
+class Deadline:
+    """The end of a time budget on the monotonic clock (shared by processes of one machine).
+
+    ``Deadline.after(None)`` never expires. Every part of a solve — the LPs, the GA, the
+    Ipopt workers — asks the same object how much time is left.
+    """
+
+    at: float | None = None
+
+    @classmethod
+    def after(cls, seconds: float | None) -> "Deadline":
+        return cls(None if seconds is None else time.monotonic() + float(seconds))
+
+    def left(self) -> float:
+        """Seconds left (inf without a limit, <= 0 once expired)."""
+        return math.inf if self.at is None else self.at - time.monotonic()
+
+    def expired(self) -> bool:
+        return self.at is not None and time.monotonic() > self.at
+
+    def extended(self, seconds: float) -> "Deadline":
+        """The same deadline moved later by ``seconds`` (e.g. to finish what was found)."""
+        return self if self.at is None else Deadline(self.at + seconds)
