@@ -257,6 +257,8 @@ def command(name: str | None, argv=None, prog: str = "lamodel") -> int:
     try:
         args = _parser(prog, name).parse_args(argv)
     except _Usage as exc:
+        if name is None and prog == "lamodel" and argv and argv[0] in COMMANDS:
+            prog = f"lamodel {argv[0]}"
         print(f"{prog}: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_BAD_INPUT
     name = name or args.command

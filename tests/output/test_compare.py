@@ -11,7 +11,7 @@ from lamodel.cli import command
 from lamodel.output.compare import compare_results
 from lamodel.output.results import Results
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCRIPT = os.path.join(REPO, "scripts", "compare.py")
 
 

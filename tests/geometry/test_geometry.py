@@ -16,7 +16,7 @@ from lamodel.formulation.matrices import equilibrium_matrix, load_vectors, yield
 from lamodel.geometry import arch, portal, running_bond_wall, seed_instances, seed_wall
 from lamodel.io.jsonspec import structure_from_json, structure_to_json
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 INSTANCES = ROOT / "instances"
 
 

@@ -4,6 +4,7 @@ import pandas as pd
 import pytest
 
 from lamodel.output.modes import modes_from_flow
+from oracle import check_folder
 from lamodel.search.certify import certify, certify_flow, descend, residuals
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.search.ga import genetic_search
@@ -17,56 +18,6 @@ from conftest import INSTANCES, run_script, stack_spec
 def small_wall():
     """A 3-course running-bond wall (8 blocks): quick, yet with sliding and hinging."""
     return structure_from_json(running_bond_wall([[0.5, 1, 1, 0.5], [1, 1, 1], [0.5, 1, 1, 0.5]], name="wall8"))
-
-
-def check_collapse_state_from_csv(folder, tol=1e-7):
-    """An external checker's view: rebuild the statics and the mechanism from the CSVs only."""
-    summary = pd.read_csv(folder / "summary.csv")
-    blocks = pd.read_csv(folder / "blocks.csv").set_index("block")
-    contacts = pd.read_csv(folder / "contacts.csv")
-    alpha = float(summary.alpha[0])
-    # equilibrium, block by block, moments about the origin
-    res = {b: np.array([r.dead_x + alpha * r.live_x, r.dead_y + alpha * r.live_y,
-                        r.x * (r.dead_y + alpha * r.live_y) - r.y * (r.dead_x + alpha * r.live_x)])
-           for b, r in blocks.iterrows()}
-    scale = max(np.abs(blocks[["dead_x", "dead_y", "live_x", "live_y"]].values).max(), 1.0)
-    for c in contacts.itertuples():
-        n, t = np.array([c.nx, c.ny]), np.array([-c.ny, c.nx])
-        F = c.N * n + c.V * t
-        w = np.array([F[0], F[1], c.cx * F[1] - c.cy * F[0] + c.M])
-        if c.block_a in res:
-            res[c.block_a] += w
-        if c.block_b in res:
-            res[c.block_b] -= w
-        # yield: compression, Coulomb, eccentricity
-        assert c.N <= tol * scale
-        assert abs(c.V) <= -c.mu * c.N + tol * scale
-        assert abs(c.M) <= -c.d * c.N + tol * scale
-    assert max(np.abs(r).max() for r in res.values()) <= tol * scale
-    # the mechanism: normalised, no interpenetration, flow only where the yield row is active
-    assert (blocks.live_x * blocks.ux + blocks.live_y * blocks.uy).sum() == pytest.approx(1.0, abs=1e-9)
-    U = max(np.abs(blocks[["ux", "uy", "theta"]].values).max(), 1e-12)
-    work = 0.0
-    for c in contacts.itertuples():
-        def disp(b):
-            if b not in blocks.index:
-                return np.zeros(2), 0.0
-            r = blocks.loc[b]
-            return np.array([r.ux - r.theta * (c.cy - r.y), r.uy + r.theta * (c.cx - r.x)]), r.theta
-        (da, ta), (db, tb) = disp(c.block_a), disp(c.block_b)
-        n, t = np.array([c.nx, c.ny]), np.array([-c.ny, c.nx])
-        opening, slip, turn = (db - da) @ n, (db - da) @ t, tb - ta
-        assert opening >= c.d * abs(turn) - tol * U  # no interpenetration at either edge
-        if abs(slip) > tol * U:  # sliding: the shear is at the friction limit, against the slip
-            assert abs(c.V) == pytest.approx(-c.mu * c.N, abs=tol * scale)
-            assert np.sign(c.V) == np.sign(slip) or abs(c.V) < tol * scale
-        if abs(turn) > tol * U:  # hinging: the normal force at the pivot edge
-            assert abs(c.M) == pytest.approx(-c.d * c.N, abs=tol * scale)
-        work += c.N * opening + c.V * slip + c.M * turn
-    # virtual work: alpha fbar.u + f0.u = s.q
-    dead_work = (blocks.dead_x * blocks.ux + blocks.dead_y * blocks.uy).sum()
-    assert alpha + dead_work == pytest.approx(work, abs=1e-7)
-    return alpha
 
 
 def test_certified_lp_state_passes_an_independent_residual_check():
@@ -162,7 +113,7 @@ def test_solve_script_output_contract(tmp_path):
     assert list(runs.columns) == ["start", "source", "alpha_ipopt", "status", "alpha_certified", "iterations",
                                   "seconds"]
     assert len(runs) == summary.n_starts[0]
-    alpha = check_collapse_state_from_csv(out)
+    alpha = check_folder(out)
     assert alpha == pytest.approx(summary.alpha[0]) and alpha <= 0.63900
     assert (out / "mechanism.png").stat().st_size > 0
     assert "alpha = 0.6389" in p.stdout

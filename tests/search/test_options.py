@@ -1,0 +1,26 @@
+"""One validated options object and one clock."""
+import math
+import time
+
+import pytest
+
+from lamodel.errors import InputError
+from lamodel.search.options import Deadline, SolveOptions
+
+
+@pytest.mark.parametrize("field, value", [("starts", -1), ("workers", 0), ("pop_size", 1), ("generations", 0),
+                                          ("time_limit", 0), ("time_limit", float("inf")), ("solver", "cplex"),
+                                          ("xi_factor", -1.0), ("starts", 1.5)])
+def test_options_reject_what_no_solve_can_use(field, value):
+    with pytest.raises(InputError, match=field if field != "solver" else "solver 'cplex'"):
+        SolveOptions(**{field: value})
+
+
+def test_deadline():
+    assert Deadline.after(None).left() == math.inf and not Deadline.after(None).expired()
+    d = Deadline.after(0.05)
+    assert 0 < d.left() <= 0.05 and not d.expired()
+    time.sleep(0.06)
+    assert d.expired() and d.left() < 0
+    assert not d.extended(10).expired()
+    assert Deadline.after(None).extended(5).at is None
