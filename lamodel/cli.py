@@ -89,6 +89,36 @@ def _solve_arguments(p):
     p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
     p.add_argument("--no-plot", action="store_true", help="draw no picture")
     p.add_argument("--quiet", action="store_true", help="print only the one-line result")
+    _solve_study_arguments(p)
+
+
+def _number_list(text):
+    try:
+        values = [float(x) for x in text.replace(" ", "").split(",") if x != ""]
+    except ValueError:
+        values = []
+    if not values or not all(v == v and abs(v) != float("inf") for v in values):
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got '{text}'")
+    return values
+
+
+def _pair(text):
+    values = _number_list(text)
+    if len(values) != 2:
+        raise argparse.ArgumentTypeError(f"expected two numbers FX,FY, got '{text}'")
+    return values
+
+
+def _solve_study_arguments(p):
+    """Options of issue 14: report, animation, rolling load."""
+    p.add_argument("--report", metavar="FILE.html", help="write one self-contained HTML report")
+    p.add_argument("--animate", metavar="FILE.gif", help="write a GIF of the mechanism growing from rest")
+    p.add_argument("--rolling", metavar="FX,FY", type=_pair,
+                   help="a rolling point load (per axle) moved across the top; it replaces the file's live loads")
+    p.add_argument("--axles", metavar="D1,D2,...", type=_number_list,
+                   help="offsets of the axles from the lead axle (with --rolling; default 0)")
+    p.add_argument("--positions", metavar="X1,X2,...", type=_number_list,
+                   help="positions of the lead axle (default: the file's, else the midpoints of the top edges)")
 
 
 def _solve(args, prog) -> int:
@@ -116,20 +146,44 @@ def _solve(args, prog) -> int:
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
                            pop_size=args.pop_size, generations=args.generations,
                            solver=args.solver, progress=not args.quiet)
-    outcome = solve(structure, options)
-    results = outcome_results(outcome)
+    structure = _with_rolling_option(structure, args)
+    _check_outputs(args)
+    study = None
+    if structure.cases or structure.rolling is not None:
+        study, outcome, extra = _run_study(structure, options, args)
+    else:
+        outcome, extra = solve(structure, options), {}
+    dead_u = _explain_unstable(outcome)
+    results = outcome_results(outcome, extra)
     try:
         results.write(out)
+        if study is not None:  # after the result files: the folder is theirs to replace
+            study = _write_study(study, out, structure)
     except OSError as exc:
         print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
         return 1
+    words = _words(outcome, results, dead_u)
     picture = None
     if not args.no_plot:
-        picture = _draw(structure, outcome, results, args.plot or out / "mechanism.png")
+        picture = _draw(outcome.structure, outcome, results, args.plot or out / "mechanism.png", dead_u)
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
             print(results.to_text())
+            if study is not None:
+                print(f"\n{study['title']}:")
+                print(study["table"].to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+        print()
+        print("\n".join(words))
         print(f"results written to {out}/" + (f", picture {picture}" if picture else ""))
+    if args.animate:
+        _animate(outcome, results, args.animate, dead_u)
+    if args.report:
+        from .output.html import write_report
+        write_report(args.report, outcome.structure, results, words,
+                     _picture_svg(outcome, results, dead_u), " ".join([prog.split()[0], *sys.argv[1:]]), args.instance,
+                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
+        if not args.quiet:
+            print(f"report written to {args.report}")
     if outcome.certified:
         print(f"{structure.name}: alpha = {max(outcome.best.alpha, 0.0):.6f} (certified collapse state; associative "
               f"bound {outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
@@ -140,21 +194,173 @@ def _solve(args, prog) -> int:
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
 
 
-def _draw(structure, outcome, results, path):
+def _draw(structure, outcome, results, path, dead_u=None):
     import os
 
-    import numpy as np
-
-    from .output.plot import plot_mechanism
     path = Path(path)
     if path.parent and not path.parent.exists():
         os.makedirs(path.parent, exist_ok=True)
+    from .output.plot import plot_mechanism
+    return plot_mechanism(structure, path=str(path), **_picture(outcome, results, dead_u))
+
+
+def _picture(outcome, results, dead_u=None) -> dict:
+    """What every picture of a solve shows: the certified mechanism with the modes of
+    contacts.csv and the thrust line, or the mechanism under dead load alone (highlighted),
+    or the structure at rest."""
+    import numpy as np
+
+    from .output.modes import modes_from_mechanism
+    from .output.words import moving_blocks
+    s = outcome.structure
     if outcome.best is not None:
-        u, modes = outcome.best.u.reshape(-1, 3), results.modes()  # the modes contacts.csv reports
-        alpha = outcome.best.alpha
+        best = outcome.best
+        return dict(u=best.u.reshape(-1, 3), modes=results.modes(), alpha=best.alpha, certified=True,
+                    thrust=(best.N, best.M))
+    if dead_u is not None:
+        moving = [b for b, m in zip(s.blocks, moving_blocks(s, dead_u)) if m]
+        return dict(u=dead_u, modes=modes_from_mechanism(s, dead_u), highlight=moving,
+                    title=f"{s.name}: unstable under dead load")
+    return dict(u=np.zeros((s.n_blocks, 3)), modes=["closed"] * s.n_contacts, alpha=None,
+                certified=outcome.certified)
+
+
+def _picture_svg(outcome, results, dead_u) -> str:
+    import matplotlib.pyplot as plt
+
+    from .output.html import svg_of
+    from .output.plot import plot_mechanism
+    fig, ax = plt.subplots(figsize=(9, 6))
+    try:
+        plot_mechanism(outcome.structure, path=None, ax=ax, **_picture(outcome, results, dead_u))
+        return svg_of(fig)
+    finally:
+        plt.close(fig)
+
+
+def _animate(outcome, results, path, dead_u):
+    from .output.plot import animate_mechanism
+    kw = _picture(outcome, results, dead_u)
+    kw.pop("title", None)
+    return animate_mechanism(outcome.structure, path=path, **kw)
+
+
+def _words(outcome, results, dead_u) -> list:
+    """The mechanism in words (:mod:`lamodel.output.words`)."""
+    from .output.modes import modes_from_mechanism
+    from .output.words import describe
+    s = outcome.structure
+    if outcome.best is not None:
+        return describe(s, outcome.best.u, results.modes(), outcome.best.alpha)
+    if dead_u is not None:
+        return ["Under dead load alone (no live load):"] + describe(s, dead_u, modes_from_mechanism(s, dead_u))[1:]
+    return [f"No mechanism: {outcome.message}."]
+
+
+def _explain_unstable(outcome):
+    """For a structure unstable under its dead load: the mechanism of the dead load alone
+    (:mod:`lamodel.search.unstable`), its moving blocks named in the outcome's message."""
+    if outcome.status != "unstable":
+        return None
+    from .output.words import moving_blocks
+    from .search.unstable import dead_load_mechanism
+    u = dead_load_mechanism(outcome.structure)
+    if u is None:
+        return None
+    names = [b for b, m in zip(outcome.structure.blocks, moving_blocks(outcome.structure, u)) if m]
+    shown = ", ".join(names[:20]) + (f", ... ({len(names)} blocks)" if len(names) > 20 else "")
+    outcome.message += f"; the blocks that move under dead load alone: {shown}"
+    return u
+
+
+def _check_outputs(args):
+    from .errors import InputError
+    for option, path, suffixes in (("--report", args.report, (".html", ".htm")), ("--animate", args.animate, (".gif",))):
+        if path is None:
+            continue
+        p = Path(path)
+        if p.suffix.lower() not in suffixes:
+            raise InputError(f"{path}: {option} writes a {suffixes[0]} file; expected a file name ending in {suffixes[0]}")
+        if p.is_dir():
+            raise InputError(f"{path}: is a folder; expected a file name for {option}")
+        if p.parent != Path("") and not p.parent.is_dir():
+            raise InputError(f"{path}: folder {p.parent} does not exist; expected an existing folder for {option}")
+
+
+def _with_rolling_option(structure, args):
+    """--rolling/--axles/--positions: a rolling load replacing the file's live loads, or
+    new axles/positions for the file's own rolling load."""
+    import dataclasses
+
+    from .errors import InputError
+    from .loads import RollingLoad
+    if args.rolling is None and not (args.axles or args.positions):
+        return structure
+    if args.rolling is None and structure.rolling is None:
+        raise InputError("--axles and --positions move a rolling load; expected --rolling FX,FY or a "
+                         "'rolling_load' in the JSON")
+    if not structure.polygons:
+        raise InputError(f"{args.instance}: no block outlines; expected a JSON geometry (or a .dat with VERTICES) "
+                         "to find the top of the structure for a rolling load")
+    s = dataclasses.replace(structure)
+    if args.rolling is not None:
+        if not any(args.rolling):
+            raise InputError("--rolling 0,0: expected a non-zero force per axle")
+        s.live, s.live_m = structure.live * 0.0, structure.live_m * 0.0
+        s.point_loads = [p for p in structure.point_loads if p.kind == "dead"]
+        s.cases = {}
+        base = RollingLoad(tuple(args.rolling))
     else:
-        u, modes, alpha = np.zeros((structure.n_blocks, 3)), ["closed"] * structure.n_contacts, None
-    return plot_mechanism(structure, u, modes=modes, alpha=alpha, certified=outcome.certified, path=str(path))
+        base = structure.rolling
+    s.rolling = RollingLoad(base.force, tuple(args.axles) if args.axles else base.axles,
+                            tuple(args.positions) if args.positions else base.positions)
+    return s
+
+
+def _run_study(structure, options, args):
+    """Load cases or a rolling load: one solve per case / position; the governing outcome."""
+    from .studies import governing, load_case_study, rolling_study
+    quiet = args.quiet
+
+    def progress(row):
+        if not quiet:
+            key = "case" if "case" in row else "position"
+            value = row[key] if key == "case" else f"x = {row[key]:.6g}"
+            alpha = f"{row['alpha_c']:.6f}" if row["certified"] else f"none ({row['status']})"
+            print(f"  {value}: alpha = {alpha}", flush=True)
+
+    from dataclasses import replace
+    quiet_options = replace(options, progress=False)
+    if structure.cases:
+        df, outcomes = load_case_study(structure, quiet_options, progress=progress)
+        key, title = "case", f"Load cases ({len(df)})"
+    else:
+        df, outcomes = rolling_study(structure, quiet_options, progress=progress)
+        key, title = "position", f"Rolling load ({len(df)} positions)"
+    label = governing(df, key)
+    chosen = label if label is not None else next(iter(outcomes))
+    extra = {key: chosen, "governing": label is not None}
+    return {"key": key, "title": title, "table": df}, outcomes[chosen], extra
+
+
+def _write_study(study, out, structure):
+    """cases.csv or rolling.csv (and rolling.png) next to the result files; the plot as SVG
+    for the report."""
+    from .output.html import svg_of
+    from .studies import cases_figure, rolling_figure, save_figure, write_csv
+    df = study["table"]
+    units = {"length_unit": structure.units.get("length", "-"), "force_unit": structure.units.get("force", "-")}
+    write_csv(df.assign(**units), Path(out) / ("cases.csv" if study["key"] == "case" else "rolling.csv"))
+    if study["key"] == "case":
+        fig = cases_figure(df)
+    else:
+        fig = rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", ""))
+        save_figure(rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", "")),
+                    Path(out) / "rolling.png")
+    svg = svg_of(fig)
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    return dict(study, svg=svg)
 
 
 # ----------------------------------------------------------------------------- compare
