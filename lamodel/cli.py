@@ -71,6 +71,7 @@ def _tolerance(text):
 
 # ------------------------------------------------------------------------------- solve
 def _solve_arguments(p):
+    from .search.methods import CHOICES, SEED_GENERATIONS, SEED_POP_SIZE
     from .search.options import SOLVERS, SolveOptions
 
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
@@ -80,10 +81,15 @@ def _solve_arguments(p):
                    help=f"Ipopt solves of eq. 5 (default {SolveOptions.starts}; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
-    p.add_argument("--pop-size", type=_whole(2), default=SolveOptions.pop_size,
-                   help=f"GA population (default {SolveOptions.pop_size})")
-    p.add_argument("--generations", type=_whole(1), default=SolveOptions.generations,
-                   help=f"GA generations (default {SolveOptions.generations})")
+    p.add_argument("--pop-size", type=_whole(2), default=None,
+                   help=f"GA population (default {SolveOptions.pop_size}; {SEED_POP_SIZE} for --method seed)")
+    p.add_argument("--generations", type=_whole(1), default=None,
+                   help=f"GA generations (default {SolveOptions.generations}; {SEED_GENERATIONS} for --method seed)")
+    p.add_argument("--method", default="lamodel", choices=CHOICES,
+                   help="lamodel: the certified search (default); associative: the associative LP (upper bound); "
+                        "successive-lp: Gilbert et al. 2006; mpec: Ferris & Tin-Loi 2001; seed: the seed's GA on "
+                        "eq. 5 with Ipopt; all: every method, compared in <out>/methods.csv. Each method's raw "
+                        "answer is certified like every other")
     p.add_argument("--solver", default=SolveOptions.solver, choices=SOLVERS,
                    help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
     p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
@@ -144,21 +150,29 @@ def _solve(args, prog) -> int:
         if (out / name).is_dir():
             raise InputError(f"{out / name}: is a folder; expected room for the result file")
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
-                           pop_size=args.pop_size, generations=args.generations,
+                           pop_size=args.pop_size or SolveOptions.pop_size,
+                           generations=args.generations or SolveOptions.generations,
                            solver=args.solver, progress=not args.quiet)
     structure = _with_rolling_option(structure, args)
     _check_outputs(args)
-    study = None
-    if structure.cases or structure.rolling is not None:
-        study, outcome, extra = _run_study(structure, options, args)
+    study, methods = None, None
+    if args.method != "lamodel":
+        if structure.cases or structure.rolling is not None:
+            raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")
+        outcome, results, methods = _solve_methods(args, structure, options)
     else:
-        outcome, extra = solve(structure, options), {}
+        if structure.cases or structure.rolling is not None:
+            study, outcome, extra = _run_study(structure, options, args)
+        else:
+            outcome, extra = solve(structure, options), {}
+        results = outcome_results(outcome, dict(extra, method="lamodel"))
     dead_u = _explain_unstable(outcome)
-    results = outcome_results(outcome, extra)
     try:
         results.write(out)
         if study is not None:  # after the result files: the folder is theirs to replace
             study = _write_study(study, out, structure)
+        if methods is not None:
+            _write_methods(methods, out, structure)
     except OSError as exc:
         print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
         return 1
@@ -192,6 +206,38 @@ def _solve(args, prog) -> int:
     if outcome.status == "interrupted":
         return EXIT_INTERRUPTED
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
+
+
+def _solve_methods(args, structure, options):
+    """--method other than lamodel: run it (or all of them); the result folder holds the
+    certified state of the method (for all: of the best one) and, for all, methods.csv.
+    Returns (outcome, results, the methods table or None)."""
+    from .output.methods import method_results, methods_frame
+    from .search.methods import SEED_GENERATIONS, SEED_POP_SIZE, best_of, run_methods
+
+    def progress(r):
+        if not args.quiet:
+            print(f"  {r.method}: raw alpha {r.alpha_raw:.6f}, certified "
+                  + (f"{r.alpha_certified:.6f}" if r.certified else "none") + f" ({r.seconds:.1f} s)", flush=True)
+
+    found = run_methods(args.method, structure, options,
+                        (args.pop_size or SEED_POP_SIZE, args.generations or SEED_GENERATIONS), progress)
+    chosen = best_of(found)
+    frame = None
+    if args.method == "all":
+        frame = methods_frame(found)
+        frame.attrs["chosen"] = chosen.method
+    return chosen.outcome(), method_results(chosen), frame
+
+
+def _write_methods(frame, out, structure):
+    """methods.csv beside the result files (after them: the folder is theirs to replace)."""
+    from .output.methods import methods_text, write_methods_csv
+    write_methods_csv(frame, out)
+    print(f"Methods on '{structure.name}' (each raw answer certified; the folder holds "
+          f"{frame.attrs.get('chosen', 'the best')}'s state):")
+    print(methods_text(frame))
+    print(f"methods table written to {out}/methods.csv")
 
 
 def _draw(structure, outcome, results, path, dead_u=None):
