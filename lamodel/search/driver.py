@@ -115,8 +115,9 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
                         screen.n_solves + lps.n_solves - lp0, time.perf_counter() - ga_start))
         # ---- Ipopt multistart on eq. (5) from the best distinct states
         if pool is not None:
-            starts = final.best(opt.starts) or [s for s in [_associative_start(lps, assoc)] if assoc is not None
-                                                 and s is not None]
+            starts = final.best(opt.starts)
+            if not starts and assoc is not None:
+                starts = [s for s in [_associative_start(lps, assoc)] if s is not None]
             if out_of_time():
                 runs.extend(Run(i, "ipopt", status="time limit: not started") for i in range(1, opt.starts + 1))
             elif starts:
