@@ -160,13 +160,14 @@ def _solve(args, prog) -> int:
         if structure.cases or structure.rolling is not None:
             raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")
         outcome, results, methods = _solve_methods(args, structure, options)
+        dead_u = None
     else:
         if structure.cases or structure.rolling is not None:
             study, outcome, extra = _run_study(structure, options, args)
         else:
             outcome, extra = solve(structure, options), {}
+        dead_u = _explain_unstable(outcome)  # names the moving blocks in the message: before the tables
         results = outcome_results(outcome, dict(extra, method="lamodel"))
-    dead_u = _explain_unstable(outcome)
     try:
         results.write(out)
         if study is not None:  # after the result files: the folder is theirs to replace
