@@ -67,13 +67,14 @@ def start_pool(structure, opt):
 
 
 def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LADDER, options=None,
-                 deadline: Deadline = Deadline()):
+                 deadline: Deadline | None = None):
     """Solve eq. (5) from a start with 0 <= alpha_K - alpha <= epsilon, epsilon -> 0.
 
     Each stage warm-starts from the previous one (primal and multipliers). Returns
     (state arrays, Ipopt status message, iterations).
     """
     from ..formulation.model import get_state, set_state
+    deadline = deadline or Deadline()
     set_state(model, structure, start.N, start.V, start.M, start.alpha, start.u, start.xi)
     x = nlp.start_point()
     scale = max(1.0, abs(start.alpha))

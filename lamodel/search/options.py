@@ -53,27 +53,52 @@ class SolveOptions:
         return self
 
 
-@dataclass(frozen=True)
-class Deadline:
-    """The end of a time budget on the monotonic clock (shared by processes of one machine).
+class Stopped(Exception):
+    """The deadline passed, or a stop was asked for (Ctrl-C, a caller's predicate)."""
 
-    ``Deadline.after(None)`` never expires. Every part of a solve — the LPs, the GA, the
-    Ipopt workers — asks the same object how much time is left.
+
+class Deadline:
+    """The end of a time budget on the monotonic clock, and a stop that can come earlier.
+
+    ``Deadline.after(None)`` never expires by itself. ``stop`` is any callable returning
+    True to stop (``threading.Event().is_set`` works); ``flag`` is set by a signal handler
+    (Ctrl-C). Every part of a solve — the LPs (inside HiGHS, through its interrupt
+    callback), the GA, the Ipopt workers — asks the same object.
     """
 
-    at: float | None = None
+    def __init__(self, at: float | None = None, stop=None):
+        self.at = at
+        self.stop = stop
+        self.flag = False
 
     @classmethod
-    def after(cls, seconds: float | None) -> "Deadline":
-        return cls(None if seconds is None else time.monotonic() + float(seconds))
+    def after(cls, seconds: float | None, stop=None) -> "Deadline":
+        return cls(None if seconds is None else time.monotonic() + float(seconds), stop)
 
     def left(self) -> float:
         """Seconds left (inf without a limit, <= 0 once expired)."""
+        if self.flag or (self.stop is not None and self.stop()):
+            return 0.0
         return math.inf if self.at is None else self.at - time.monotonic()
 
+    remaining = left
+
     def expired(self) -> bool:
+        if self.flag or (self.stop is not None and self.stop()):
+            return True
         return self.at is not None and time.monotonic() > self.at
 
+    def check(self):
+        """Raise :class:`Stopped` once expired."""
+        if self.expired():
+            raise Stopped()
+
     def extended(self, seconds: float) -> "Deadline":
-        """The same deadline moved later by ``seconds`` (e.g. to finish what was found)."""
-        return self if self.at is None else Deadline(self.at + seconds)
+        """The same deadline moved later by ``seconds`` (e.g. to finish what was found);
+        a stop asked for still stops it."""
+        d = Deadline(None if self.at is None else self.at + seconds, self.stop)
+        d.flag = self.flag
+        return d
+
+    def __getstate__(self):  # for worker processes: the time alone (a predicate may not pickle)
+        return {"at": self.at if not self.expired() else time.monotonic(), "stop": None, "flag": False}
