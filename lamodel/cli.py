@@ -19,6 +19,7 @@ so ``lamodel --help`` answers at once.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 from pathlib import Path
@@ -76,8 +77,10 @@ def _solve_arguments(p):
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
     p.add_argument("--out", help="result folder (default: results/<instance name>/)")
     p.add_argument("--seed", type=int, default=SolveOptions.seed, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts,
-                   help=f"Ipopt solves of eq. 5 (default {SolveOptions.starts}; 0: LPs only)")
+    p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts, metavar="K",
+                   help=f"at most K Ipopt solves of eq. 5, one from each of the K best distinct collapse states "
+                        f"the GA certified: fewer when it certified fewer (runs.csv has one row per solve; "
+                        f"default {SolveOptions.starts}; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
     p.add_argument("--pop-size", type=_whole(2), default=SolveOptions.pop_size,
@@ -96,43 +99,50 @@ def _solve(args, prog) -> int:
 
     import pandas as pd
 
-    from .errors import InputError
     from .io import read
+    from .io.files import ResultFolder, safe_folder_name
     from .output.report import outcome_results
+    from .output.results import foreign_files
     from .search.driver import SolveOptions, solve
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         structure = read(args.instance)
-    for w in caught:  # one line each, without Python's source-line echo
-        if not args.quiet and issubclass(w.category, UserWarning):
+    for w in caught:  # always shown (--quiet too): they change the answer; one line each
+        if issubclass(w.category, UserWarning):
             print(f"{prog}: warning: {w.message}", file=sys.stderr)
-    out = Path(args.out) if args.out else Path("results") / structure.name
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a folder; expected a folder for the result files")
-    for name in ("summary.csv", "blocks.csv", "contacts.csv", "runs.csv"):
-        if (out / name).is_dir():
-            raise InputError(f"{out / name}: is a folder; expected room for the result file")
-    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
-                           pop_size=args.pop_size, generations=args.generations,
-                           solver=args.solver, progress=not args.quiet)
-    outcome = solve(structure, options)
-    results = outcome_results(outcome)
+    # every output place is checked before the solve (InputError: one line, exit 2)
+    out = Path(args.out) if args.out else Path("results") / safe_folder_name(structure.name)
+    picture = None if args.no_plot else _picture_place(args.plot, out)
+    stage = ResultFolder(out, foreign_files).open()
     try:
-        results.write(out)
-    except OSError as exc:
-        print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
-        return 1
-    picture = None
-    if not args.no_plot:
-        picture = _draw(structure, outcome, results, args.plot or out / "mechanism.png")
+        options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers,
+                               time_limit=args.time_limit, pop_size=args.pop_size, generations=args.generations,
+                               solver=args.solver, progress=not args.quiet)
+        outcome = solve(structure, options)
+        results = outcome_results(outcome)
+        inside = picture is not None and picture.parent == stage.final
+        if inside:  # the picture belongs to the result folder: swapped in with the tables
+            _draw(structure, results, stage.path / picture.name)
+        results.summary["picture"] = picture.name if inside else str(picture or "")
+        results.write_into(stage.path)
+        try:
+            stage.commit()
+        except OSError as exc:
+            print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
+            return 1
+    finally:
+        stage.discard()
+    if picture is not None and not inside:
+        _draw(structure, results, picture)
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
             print(results.to_text())
-        print(f"results written to {out}/" + (f", picture {picture}" if picture else ""))
+        shown = out / picture.name if inside else picture
+        print(f"results written to {out}/" + (f", picture {shown}" if picture else ""))
     if outcome.certified:
-        print(f"{structure.name}: alpha = {max(outcome.best.alpha, 0.0):.6f} (certified collapse state; associative "
-              f"bound {outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
+        print(f"{structure.name}: alpha = {max(results.alpha, 0.0):.6f} (certified collapse state; associative "
+              f"bound {results.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
     else:
         print(f"{structure.name}: no certified collapse multiplier: {outcome.message}")
     if outcome.status == "interrupted":
@@ -140,21 +150,41 @@ def _solve(args, prog) -> int:
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
 
 
-def _draw(structure, outcome, results, path):
-    import os
+def _picture_place(plot, out) -> Path:
+    """Where the picture goes, checked before solving: a known format, a writable place.
+    Beside the tables (the default) it is part of the result folder; elsewhere its folder
+    must exist."""
+    from matplotlib.backend_bases import FigureCanvasBase
 
+    from .errors import InputError
+    from .io.files import check_writable_folder
+
+    path = Path(plot) if plot else Path(out) / "mechanism.png"
+    ext = path.suffix.lower().lstrip(".")
+    supported = FigureCanvasBase.get_supported_filetypes()
+    if ext not in supported:
+        raise InputError(f"{path}: unknown picture format '{path.suffix}'; expected one of "
+                         f"{', '.join('.' + e for e in sorted(supported))}")
+    final_out = Path(os.path.realpath(out))
+    parent = Path(os.path.realpath(path.parent if str(path.parent) else "."))
+    if parent == final_out:
+        return final_out / path.name
+    if os.path.isdir(path):
+        raise InputError(f"{path}: is a folder; expected a picture file name")
+    check_writable_folder(path.parent, f"--plot {path}")
+    return path
+
+
+def _draw(structure, results, path):
     import numpy as np
 
     from .output.plot import plot_mechanism
-    path = Path(path)
-    if path.parent and not path.parent.exists():
-        os.makedirs(path.parent, exist_ok=True)
-    if outcome.best is not None:
-        u, modes = outcome.best.u.reshape(-1, 3), results.modes()  # the modes contacts.csv reports
-        alpha = outcome.best.alpha
+    if results.certified:
+        u, alpha = results.mechanism(), results.alpha  # the modes contacts.csv reports
     else:
-        u, modes, alpha = np.zeros((structure.n_blocks, 3)), ["closed"] * structure.n_contacts, None
-    return plot_mechanism(structure, u, modes=modes, alpha=alpha, certified=outcome.certified, path=str(path))
+        u, alpha = np.zeros((structure.n_blocks, 3)), None
+    return plot_mechanism(structure, u, modes=results.modes(), alpha=alpha, certified=results.certified,
+                          path=str(path))
 
 
 # ----------------------------------------------------------------------------- compare
@@ -198,8 +228,9 @@ def _build(args, prog) -> int:
 def _table1_arguments(p):
     p.add_argument("--out", default="results/table1.csv", help="CSV file (default results/table1.csv)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_whole(0), default=2,
-                   help="Ipopt solves of eq. 5 per wall (default 2; 0: LPs only)")
+    p.add_argument("--starts", type=_whole(0), default=2, metavar="K",
+                   help="at most K Ipopt solves of eq. 5 per wall, from the best distinct certified states "
+                        "(default 2; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
 
 
