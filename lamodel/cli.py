@@ -72,10 +72,12 @@ def _tolerance(text):
 
 # ------------------------------------------------------------------------------- solve
 def _solve_arguments(p):
+    from .search.methods import CHOICES, SEED_GENERATIONS, SEED_POP_SIZE
     from .search.options import SOLVERS, SolveOptions
 
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
-    p.add_argument("--out", help="result folder (default: results/<instance name>/)")
+    p.add_argument("--out", help="result folder, replaced as a whole (default: results/<instance name>/); "
+                                 "a folder holding files lamodel did not write is refused")
     p.add_argument("--seed", type=int, default=SolveOptions.seed, help="random seed of the GA (default 0)")
     p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts, metavar="K",
                    help=f"at most K Ipopt solves of eq. 5, one from each of the K best distinct collapse states "
@@ -83,15 +85,52 @@ def _solve_arguments(p):
                         f"default {SolveOptions.starts}; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
-    p.add_argument("--pop-size", type=_whole(2), default=SolveOptions.pop_size,
-                   help=f"GA population (default {SolveOptions.pop_size})")
-    p.add_argument("--generations", type=_whole(1), default=SolveOptions.generations,
-                   help=f"GA generations (default {SolveOptions.generations})")
+    p.add_argument("--pop-size", type=_whole(2), default=None,
+                   help=f"GA population (default {SolveOptions.pop_size}; {SEED_POP_SIZE} for --method seed)")
+    p.add_argument("--generations", type=_whole(1), default=None,
+                   help=f"GA generations (default {SolveOptions.generations}; {SEED_GENERATIONS} for --method seed)")
+    p.add_argument("--method", default="lamodel", choices=CHOICES,
+                   help="lamodel: the certified search (default); associative: the associative LP (upper bound); "
+                        "successive-lp: Gilbert et al. 2006; mpec: Ferris & Tin-Loi 2001; seed: the seed's GA on "
+                        "eq. 5 with Ipopt; all: every method, compared in <out>/methods.csv. Each method's raw "
+                        "answer is certified like every other")
     p.add_argument("--solver", default=SolveOptions.solver, choices=SOLVERS,
                    help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
-    p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
+    p.add_argument("--plot", help="mechanism picture (.png, .svg, .pdf, ...; default <out>/mechanism.png, part of "
+                                  "the result folder; elsewhere, in an existing folder)")
     p.add_argument("--no-plot", action="store_true", help="draw no picture")
-    p.add_argument("--quiet", action="store_true", help="print only the one-line result")
+    p.add_argument("--quiet", action="store_true",
+                   help="print only the one-line result (warnings and errors still go to stderr)")
+    _solve_study_arguments(p)
+
+
+def _number_list(text):
+    try:
+        values = [float(x) for x in text.replace(" ", "").split(",") if x != ""]
+    except ValueError:
+        values = []
+    if not values or not all(v == v and abs(v) != float("inf") for v in values):
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got '{text}'")
+    return values
+
+
+def _pair(text):
+    values = _number_list(text)
+    if len(values) != 2:
+        raise argparse.ArgumentTypeError(f"expected two numbers FX,FY, got '{text}'")
+    return values
+
+
+def _solve_study_arguments(p):
+    """Options of issue 14: report, animation, rolling load."""
+    p.add_argument("--report", metavar="FILE.html", help="write one self-contained HTML report")
+    p.add_argument("--animate", metavar="FILE.gif", help="write a GIF of the mechanism growing from rest")
+    p.add_argument("--rolling", metavar="FX,FY", type=_pair,
+                   help="a rolling point load (per axle) moved across the top; it replaces the file's live loads")
+    p.add_argument("--axles", metavar="D1,D2,...", type=_number_list,
+                   help="offsets of the axles from the lead axle (with --rolling; default 0)")
+    p.add_argument("--positions", metavar="X1,X2,...", type=_number_list,
+                   help="positions of the lead axle (default: the file's, else the midpoints of the top edges)")
 
 
 def _solve(args, prog) -> int:
@@ -99,6 +138,7 @@ def _solve(args, prog) -> int:
 
     import pandas as pd
 
+    from .errors import InputError
     from .io import read
     from .io.files import ResultFolder, safe_folder_name
     from .output.report import outcome_results
@@ -111,21 +151,41 @@ def _solve(args, prog) -> int:
     for w in caught:  # always shown (--quiet too): they change the answer; one line each
         if issubclass(w.category, UserWarning):
             print(f"{prog}: warning: {w.message}", file=sys.stderr)
+    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
+                           pop_size=args.pop_size or SolveOptions.pop_size,
+                           generations=args.generations or SolveOptions.generations,
+                           solver=args.solver, progress=not args.quiet)
+    structure = _with_rolling_option(structure, args)
     # every output place is checked before the solve (InputError: one line, exit 2)
+    _check_outputs(args)
     out = Path(args.out) if args.out else Path("results") / safe_folder_name(structure.name)
     picture = None if args.no_plot else _picture_place(args.plot, out)
     stage = ResultFolder(out, foreign_files).open()
     try:
-        options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers,
-                               time_limit=args.time_limit, pop_size=args.pop_size, generations=args.generations,
-                               solver=args.solver, progress=not args.quiet)
-        outcome = solve(structure, options)
-        results = outcome_results(outcome)
+        study, methods = None, None
+        if args.method != "lamodel":
+            if structure.cases or structure.rolling is not None:
+                raise InputError("--method other than lamodel takes one live load; expected no load cases or "
+                                 "rolling load")
+            outcome, results, methods = _solve_methods(args, structure, options)
+        else:
+            if structure.cases or structure.rolling is not None:
+                study, outcome, extra = _run_study(structure, options, args)
+            else:
+                outcome, extra = solve(structure, options), {}
+            results = outcome_results(outcome, dict(extra, method="lamodel"))
+        dead_u = _explain_unstable(outcome)
+        # everything that belongs to the result folder is written into the staging folder,
+        # then swapped in as a whole
         inside = picture is not None and picture.parent == stage.final
-        if inside:  # the picture belongs to the result folder: swapped in with the tables
-            _draw(structure, results, stage.path / picture.name)
+        if inside:
+            _draw(outcome.structure, outcome, results, stage.path / picture.name, dead_u)
         results.summary["picture"] = picture.name if inside else str(picture or "")
         results.write_into(stage.path)
+        if study is not None:
+            study = _write_study(study, stage.path, structure)
+        if methods is not None:
+            _write_methods(methods, stage.path, out, structure)
         try:
             stage.commit()
         except OSError as exc:
@@ -133,13 +193,28 @@ def _solve(args, prog) -> int:
             return 1
     finally:
         stage.discard()
+    words = _words(outcome, results, dead_u)
     if picture is not None and not inside:
-        _draw(structure, results, picture)
+        _draw(outcome.structure, outcome, results, picture, dead_u)
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
             print(results.to_text())
+            if study is not None:
+                print(f"\n{study['title']}:")
+                print(study["table"].to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+        print()
+        print("\n".join(words))
         shown = out / picture.name if inside else picture
         print(f"results written to {out}/" + (f", picture {shown}" if picture else ""))
+    if args.animate:
+        _animate(outcome, results, args.animate, dead_u)
+    if args.report:
+        from .output.html import write_report
+        write_report(args.report, outcome.structure, results, words,
+                     _picture_svg(outcome, results, dead_u), " ".join([prog.split()[0], *sys.argv[1:]]), args.instance,
+                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
+        if not args.quiet:
+            print(f"report written to {args.report}")
     if outcome.certified:
         print(f"{structure.name}: alpha = {max(results.alpha, 0.0):.6f} (certified collapse state; associative "
               f"bound {results.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
@@ -175,16 +250,200 @@ def _picture_place(plot, out) -> Path:
     return path
 
 
-def _draw(structure, results, path):
+def _solve_methods(args, structure, options):
+    """--method other than lamodel: run it (or all of them); the result folder holds the
+    certified state of the method (for all: of the best one) and, for all, methods.csv.
+    Returns (outcome, results, the methods table or None)."""
+    from .output.methods import method_results, methods_frame
+    from .search.methods import SEED_GENERATIONS, SEED_POP_SIZE, best_of, run_methods
+
+    def progress(r):
+        if not args.quiet:
+            print(f"  {r.method}: raw alpha {r.alpha_raw:.6f}, certified "
+                  + (f"{r.alpha_certified:.6f}" if r.certified else "none") + f" ({r.seconds:.1f} s)", flush=True)
+
+    found = run_methods(args.method, structure, options,
+                        (args.pop_size or SEED_POP_SIZE, args.generations or SEED_GENERATIONS), progress)
+    chosen = best_of(found)
+    frame = None
+    if args.method == "all":
+        frame = methods_frame(found)
+        frame.attrs["chosen"] = chosen.method
+    return chosen.outcome(), method_results(chosen), frame
+
+
+def _write_methods(frame, folder, out, structure):
+    """methods.csv beside the result files (``folder``: the staging folder of ``out``)."""
+    from .output.methods import methods_text, write_methods_csv
+    write_methods_csv(frame, folder)
+    print(f"Methods on '{structure.name}' (each raw answer certified; the folder holds "
+          f"{frame.attrs.get('chosen', 'the best')}'s state):")
+    print(methods_text(frame))
+    print(f"methods table written to {out}/methods.csv")
+
+
+def _draw(structure, outcome, results, path, dead_u=None):
+    from .output.plot import plot_mechanism
+    return plot_mechanism(structure, path=str(path), **_picture(outcome, results, dead_u))
+
+
+def _picture(outcome, results, dead_u=None) -> dict:
+    """What every picture of a solve shows: the certified mechanism with the modes of
+    contacts.csv and the thrust line, or the mechanism under dead load alone (highlighted),
+    or the structure at rest."""
     import numpy as np
 
+    from .output.modes import modes_from_mechanism
+    from .output.words import moving_blocks
+    s = outcome.structure
+    if outcome.best is not None:
+        best = outcome.best
+        return dict(u=best.u.reshape(-1, 3), modes=results.modes(), alpha=best.alpha, certified=True,
+                    thrust=(best.N, best.M))
+    if dead_u is not None:
+        moving = [b for b, m in zip(s.blocks, moving_blocks(s, dead_u)) if m]
+        return dict(u=dead_u, modes=modes_from_mechanism(s, dead_u), highlight=moving,
+                    title=f"{s.name}: unstable under dead load")
+    return dict(u=np.zeros((s.n_blocks, 3)), modes=["closed"] * s.n_contacts, alpha=None,
+                certified=outcome.certified)
+
+
+def _picture_svg(outcome, results, dead_u) -> str:
+    import matplotlib.pyplot as plt
+
+    from .output.html import svg_of
     from .output.plot import plot_mechanism
-    if results.certified:
-        u, alpha = results.mechanism(), results.alpha  # the modes contacts.csv reports
+    fig, ax = plt.subplots(figsize=(9, 6))
+    try:
+        plot_mechanism(outcome.structure, path=None, ax=ax, **_picture(outcome, results, dead_u))
+        return svg_of(fig)
+    finally:
+        plt.close(fig)
+
+
+def _animate(outcome, results, path, dead_u):
+    from .output.plot import animate_mechanism
+    kw = _picture(outcome, results, dead_u)
+    kw.pop("title", None)
+    return animate_mechanism(outcome.structure, path=path, **kw)
+
+
+def _words(outcome, results, dead_u) -> list:
+    """The mechanism in words (:mod:`lamodel.output.words`)."""
+    from .output.modes import modes_from_mechanism
+    from .output.words import describe
+    s = outcome.structure
+    if outcome.best is not None:
+        return describe(s, outcome.best.u, results.modes(), outcome.best.alpha)
+    if dead_u is not None:
+        return ["Under dead load alone (no live load):"] + describe(s, dead_u, modes_from_mechanism(s, dead_u))[1:]
+    return [f"No mechanism: {outcome.message}."]
+
+
+def _explain_unstable(outcome):
+    """For a structure unstable under its dead load: the mechanism of the dead load alone
+    (:mod:`lamodel.search.unstable`), its moving blocks named in the outcome's message."""
+    if outcome.status != "unstable":
+        return None
+    from .output.words import moving_blocks
+    from .search.unstable import dead_load_mechanism
+    u = dead_load_mechanism(outcome.structure)
+    if u is None:
+        return None
+    names = [b for b, m in zip(outcome.structure.blocks, moving_blocks(outcome.structure, u)) if m]
+    shown = ", ".join(names[:20]) + (f", ... ({len(names)} blocks)" if len(names) > 20 else "")
+    outcome.message += f"; the blocks that move under dead load alone: {shown}"
+    return u
+
+
+def _check_outputs(args):
+    from .errors import InputError
+    from .io.files import check_writable_folder
+    for option, path, suffixes in (("--report", args.report, (".html", ".htm")), ("--animate", args.animate, (".gif",))):
+        if path is None:
+            continue
+        p = Path(path)
+        if p.suffix.lower() not in suffixes:
+            raise InputError(f"{path}: {option} writes a {suffixes[0]} file; expected a file name ending in {suffixes[0]}")
+        if p.is_dir():
+            raise InputError(f"{path}: is a folder; expected a file name for {option}")
+        check_writable_folder(p.parent, f"{option} {path}")
+
+
+def _with_rolling_option(structure, args):
+    """--rolling/--axles/--positions: a rolling load replacing the file's live loads, or
+    new axles/positions for the file's own rolling load."""
+    import dataclasses
+
+    from .errors import InputError
+    from .loads import RollingLoad
+    if args.rolling is None and not (args.axles or args.positions):
+        return structure
+    if args.rolling is None and structure.rolling is None:
+        raise InputError("--axles and --positions move a rolling load; expected --rolling FX,FY or a "
+                         "'rolling_load' in the JSON")
+    if not structure.polygons:
+        raise InputError(f"{args.instance}: no block outlines; expected a JSON geometry (or a .dat with VERTICES) "
+                         "to find the top of the structure for a rolling load")
+    s = dataclasses.replace(structure)
+    if args.rolling is not None:
+        if not any(args.rolling):
+            raise InputError("--rolling 0,0: expected a non-zero force per axle")
+        s.live, s.live_m = structure.live * 0.0, structure.live_m * 0.0
+        s.point_loads = [p for p in structure.point_loads if p.kind == "dead"]
+        s.cases = {}
+        base = RollingLoad(tuple(args.rolling))
     else:
-        u, alpha = np.zeros((structure.n_blocks, 3)), None
-    return plot_mechanism(structure, u, modes=results.modes(), alpha=alpha, certified=results.certified,
-                          path=str(path))
+        base = structure.rolling
+    s.rolling = RollingLoad(base.force, tuple(args.axles) if args.axles else base.axles,
+                            tuple(args.positions) if args.positions else base.positions)
+    return s
+
+
+def _run_study(structure, options, args):
+    """Load cases or a rolling load: one solve per case / position; the governing outcome."""
+    from .studies import governing, load_case_study, rolling_study
+    quiet = args.quiet
+
+    def progress(row):
+        if not quiet:
+            key = "case" if "case" in row else "position"
+            value = row[key] if key == "case" else f"x = {row[key]:.6g}"
+            alpha = f"{row['alpha_c']:.6f}" if row["certified"] else f"none ({row['status']})"
+            print(f"  {value}: alpha = {alpha}", flush=True)
+
+    from dataclasses import replace
+    quiet_options = replace(options, progress=False)
+    if structure.cases:
+        df, outcomes = load_case_study(structure, quiet_options, progress=progress)
+        key, title = "case", f"Load cases ({len(df)})"
+    else:
+        df, outcomes = rolling_study(structure, quiet_options, progress=progress)
+        key, title = "position", f"Rolling load ({len(df)} positions)"
+    label = governing(df, key)
+    chosen = label if label is not None else next(iter(outcomes))
+    extra = {key: chosen, "governing": label is not None}
+    return {"key": key, "title": title, "table": df}, outcomes[chosen], extra
+
+
+def _write_study(study, out, structure):
+    """cases.csv or rolling.csv (and rolling.png) next to the result files; the plot as SVG
+    for the report."""
+    from .output.html import svg_of
+    from .studies import cases_figure, rolling_figure, save_figure, write_csv
+    df = study["table"]
+    units = {"length_unit": structure.units.get("length", "-"), "force_unit": structure.units.get("force", "-")}
+    write_csv(df.assign(**units), Path(out) / ("cases.csv" if study["key"] == "case" else "rolling.csv"))
+    if study["key"] == "case":
+        fig = cases_figure(df)
+    else:
+        fig = rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", ""))
+        save_figure(rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", "")),
+                    Path(out) / "rolling.png")
+    svg = svg_of(fig)
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    return dict(study, svg=svg)
 
 
 # ----------------------------------------------------------------------------- compare

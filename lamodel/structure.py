@@ -29,6 +29,9 @@ from .errors import InputError
 #: Per-block and per-contact data, by the names of the Pyomo model's parameters and of the
 #: .dat files (:mod:`lamodel.io.datfile`, :mod:`lamodel.formulation.model`).
 BLOCK_PARAMS = ("x", "y", "dead_x", "dead_y", "live_x", "live_y")
+#: Optional per-block parameters (default 0, so files without them stay valid): the moments
+#: about the centroid of loads that act elsewhere (point loads), eq. (1)'s x ^ f.
+BLOCK_MOMENT_PARAMS = ("dead_m", "live_m")
 CONTACT_PARAMS = ("block_a", "block_b", "cx", "cy", "nx", "ny", "d", "mu")
 
 #: Yield rows of eq. (4), in the order used for the flow multipliers xi (4 per contact):
@@ -54,6 +57,12 @@ class Structure:
     d: np.ndarray           # (nc,) half-length: largest eccentricity of N
     mu: np.ndarray          # (nc,) friction coefficient
     polygons: dict = field(default_factory=dict)  # id -> (k, 2) vertices, for pictures
+    dead_m: np.ndarray | None = None  # (nb,) moment of the dead loads about the centroid (point loads)
+    live_m: np.ndarray | None = None  # (nb,) moment of the live loads about the centroid
+    units: dict = field(default_factory=dict)     # {"length": "m", "force": "kN"}; empty: dimensionless
+    point_loads: list = field(default_factory=list)  # PointLoad of this structure's loads (pictures)
+    cases: dict = field(default_factory=dict)     # name -> LoadCase: named live-load patterns
+    rolling: object = None                        # a RollingLoad study, or None
 
     def __post_init__(self):
         self.blocks = [str(b) for b in self.blocks]
@@ -71,6 +80,9 @@ class Structure:
         self.d = f(self.d, (nc,))
         self.mu = f(self.mu, (nc,))
         self.polygons = {str(k): np.asarray(v, dtype=float) for k, v in self.polygons.items()}
+        self.dead_m = np.zeros(nb) if self.dead_m is None else f(self.dead_m, (nb,))
+        self.live_m = np.zeros(nb) if self.live_m is None else f(self.live_m, (nb,))
+        self.units = {str(k): str(v) for k, v in (self.units or {}).items() if v}
 
     # ----------------------------------------------------------------- sizes and lookups
     @property
@@ -122,11 +134,13 @@ class Structure:
         if both:
             raise InputError(f"{where}: '{sorted(both)[0]}' is both a block and a support; expected one or the other")
         for name, arr in (("x/y", self.centroid), ("dead", self.dead), ("live", self.live),
+                          ("dead_m", self.dead_m), ("live_m", self.live_m),
                           ("centre", self.centre), ("normal", self.normal), ("d", self.d), ("mu", self.mu)):
             bad = ~np.isfinite(arr)
             if bad.any():
                 i = np.argwhere(bad)[0][0]
-                owner = self.blocks[i] if arr.shape[0] == self.n_blocks and name in ("x/y", "dead", "live") else self.contacts[i]
+                per_block = ("x/y", "dead", "live", "dead_m", "live_m")
+                owner = self.blocks[i] if arr.shape[0] == self.n_blocks and name in per_block else self.contacts[i]
                 raise InputError(f"{where}: {name} of '{owner}' is not a finite number; expected finite values")
         known = set(self.blocks) | set(self.supports)
         for k, a, b in zip(self.contacts, self.block_a, self.block_b):
@@ -157,6 +171,7 @@ class Structure:
         if not touched.all():
             j = int(np.flatnonzero(~touched)[0])
             raise InputError(f"{where}: block '{self.blocks[j]}' touches nothing (a free body); expected every block to have a contact")
-        if not np.any(self.live):
+        # a file of load cases or a rolling load is solved per case / position (lamodel.loads)
+        if not (np.any(self.live) or np.any(self.live_m) or self.cases or self.rolling):
             raise InputError(f"{where}: every live load is zero; expected a live load for alpha to multiply")
         return self

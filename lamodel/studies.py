@@ -137,6 +137,123 @@ def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str
     return str(path)
 
 
+# ------------------------------------------------------------------------- load cases, rolling load
+#: Columns of :func:`load_case_study` (after ``case``) and :func:`rolling_study` (after
+#: ``position`` and ``blocks``).
+VARIANT_COLUMNS = ("alpha_c", "alpha_associative", "certified", "n_sliding", "n_hinging", "seconds", "status",
+                   "governing")
+
+
+def _variant_study(key, labels, variants, options, progress):
+    """Solve every variant; a table (one row each, the least certified alpha marked
+    ``governing``) and the outcomes by label."""
+    rows, outcomes = [], {}
+    for label, structure in zip(labels, variants):
+        outcome = solve(structure, options or SolveOptions())
+        outcomes[label] = outcome
+        row = {key: label, **outcome_row(outcome)}
+        rows.append(row)
+        if progress is not None:
+            progress(row)
+    df = pd.DataFrame(rows)
+    alpha = df["alpha_c"].where(df["certified"].astype(bool))
+    df["governing"] = False
+    if alpha.notna().any():
+        df.loc[alpha.idxmin(), "governing"] = True
+    return df, outcomes
+
+
+def governing(df: pd.DataFrame, key: str):
+    """The label of the governing row of a load-case or rolling table (None if none certified)."""
+    hit = df.loc[df["governing"].astype(bool), key]
+    return None if hit.empty else hit.iloc[0]
+
+
+def load_case_study(structure: Structure, options: SolveOptions | None = None, progress=None):
+    """alpha per named load case of the structure (:mod:`lamodel.loads`); the least
+    certified one governs. Returns (table, outcomes by case name)."""
+    from .loads import case_structure
+    names = list(structure.cases)
+    if not names:
+        raise InputError(f"structure '{structure.name}': no load cases; expected live point loads with a 'case'")
+    df, outcomes = _variant_study("case", names, [case_structure(structure, n) for n in names], options, progress)
+    return df[["case", *VARIANT_COLUMNS]], outcomes
+
+
+def rolling_study(structure: Structure, options: SolveOptions | None = None, positions=None, progress=None):
+    """alpha for each position of the structure's rolling load (given positions, else its
+    own, else the midpoints of the top edges); the least certified one governs (the worst
+    position). Returns (table, outcomes by position)."""
+    from .loads import rolling_positions, rolling_structure
+    if structure.rolling is None:
+        raise InputError(f"structure '{structure.name}': no rolling load; expected a 'rolling_load' in the JSON")
+    positions = [float(x) for x in (positions if positions is not None else rolling_positions(structure))]
+    if not positions:
+        raise InputError(f"structure '{structure.name}': no position for the rolling load on the top of the "
+                         "structure; expected 'positions' in the 'rolling_load'")
+    variants = [rolling_structure(structure, x) for x in positions]
+    df, outcomes = _variant_study("position", positions, variants, options, progress)
+    df.insert(1, "blocks", [" ".join(dict.fromkeys(p.block for p in v.point_loads if p.case == "rolling"))
+                            for v in variants])
+    return df[["position", "blocks", *VARIANT_COLUMNS]], outcomes
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def rolling_figure(df: pd.DataFrame, title: str | None = None, length_unit: str = ""):
+    """A matplotlib figure: alpha against the position of the rolling load, the worst
+    position starred, positions without a certified alpha dotted."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 3.8), dpi=110)
+    ok = df["certified"].astype(bool)
+    ax.plot(df.loc[ok, "position"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", ms=4,
+            label=r"$\alpha_c$ (certified)")
+    worst = df[df["governing"].astype(bool)]
+    if len(worst):
+        ax.plot(worst["position"], worst["alpha_c"], "*", color="black", ms=12,
+                label=f"worst: x = {worst['position'].iloc[0]:.3g}, α = {worst['alpha_c'].iloc[0]:.4g}")
+    for x in df.loc[~ok, "position"]:
+        ax.axvline(x, color="#7f7f7f", linestyle=":", linewidth=0.8)
+    a = df.loc[ok, "alpha_c"]
+    if len(a) and a.min() > 0 and a.max() > 20 * a.min():  # near the supports alpha soars
+        ax.set_yscale("log")
+    ax.set_xlabel("position of the lead axle x" + (f" [{length_unit}]" if length_unit else ""))
+    ax.set_ylabel(r"load multiplier $\alpha$")
+    ax.set_title(title or "rolling load: collapse multiplier against position")
+    ax.grid(True, linewidth=0.3)
+    ax.legend(loc="best", fontsize="small")
+    fig.tight_layout()
+    return fig
+
+
+def cases_figure(df: pd.DataFrame, title: str | None = None):
+    """A matplotlib bar chart of alpha per load case, the governing case in red."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=110)
+    ok = df["certified"].astype(bool)
+    colours = ["#c0392b" if g else "#7f8c8d" for g in df["governing"].astype(bool)]
+    ax.bar(df["case"].astype(str), df["alpha_c"].where(ok, 0.0), color=colours)
+    ax.set_ylabel(r"load multiplier $\alpha$")
+    ax.set_title(title or "collapse multiplier per load case (governing in red)")
+    fig.tight_layout()
+    return fig
+
+
+def save_figure(fig, path) -> str:
+    """Save a figure atomically (format from the extension) and close it."""
+    path = Path(os.fspath(path))
+    try:
+        _atomic(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png"))
+    finally:
+        _pyplot().close(fig)
+    return str(path)
+
+
 # ------------------------------------------------------------------------- Table 1
 def read_table1(path=None) -> pd.DataFrame:
     """The seed's Table 1 (package data ``lamodel/data/table1.csv``)."""

@@ -1,7 +1,8 @@
 """The independent oracle: is this a collapse state? Rebuilt from plain numbers, no lamodel.
 
 Every test that checks a state uses this one module. It reads the output contract's
-tables (blocks: x, y, dead_x, dead_y, live_x, live_y, ux, uy, theta; contacts: block_a,
+tables (blocks: x, y, dead_x, dead_y, live_x, live_y, ux, uy, theta, and when present
+dead_m, live_m — the moments of the loads about the centroid; contacts: block_a,
 block_b, cx, cy, nx, ny, d, mu, N, V, M, mode) and checks with plain loops, in the README's
 conventions (n from block_a to block_b, t = (-n_y, n_x); N n + V t at the contact centre
 and the couple M act on block_a, their opposites on block_b; N <= 0 is compression;
@@ -37,7 +38,10 @@ def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: fl
     assert math.isfinite(alpha) and alpha >= -tol, ("alpha", alpha)
 
     # statics: equilibrium of every block (moments about its own centroid) and yield
-    res = {b: np.array([r.dead_x + alpha * r.live_x, r.dead_y + alpha * r.live_y, 0.0]) for b, r in B.items()}
+    dm = {r.block: getattr(r, "dead_m", 0.0) for r in B.values()}   # load moments about the centroid
+    lm = {r.block: getattr(r, "live_m", 0.0) for r in B.values()}
+    res = {b: np.array([r.dead_x + alpha * r.live_x, r.dead_y + alpha * r.live_y, dm[b] + alpha * lm[b]])
+           for b, r in B.items()}
     for c in contacts.itertuples(index=False):
         n, t = np.array([c.nx, c.ny]), np.array([-c.ny, c.nx])
         f = c.N * n + c.V * t
@@ -52,7 +56,7 @@ def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: fl
         assert np.abs(r[:2]).max() <= tol * F and abs(r[2]) <= tol * F * L, (b, "equilibrium", r)
 
     # kinematics: normalisation, no interpenetration, flow only on active yield rows
-    norm = sum(r.live_x * r.ux + r.live_y * r.uy for r in B.values())
+    norm = sum(r.live_x * r.ux + r.live_y * r.uy + lm[b] * r.theta for b, r in B.items())
     assert abs(norm - 1.0) <= 1e-9 * max(1.0, F * U), ("normalisation", norm)
 
     def motion(body, x, y):
@@ -81,7 +85,7 @@ def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: fl
         internal += c.N * opening + c.V * slip + c.M * turn
 
     # virtual work: alpha fbar.u + f0.u = sum over the contacts of N opening + V slip + M turn
-    dead = sum(r.dead_x * r.ux + r.dead_y * r.uy for r in B.values())
+    dead = sum(r.dead_x * r.ux + r.dead_y * r.uy + dm[b] * r.theta for b, r in B.items())
     assert abs(alpha + dead - internal) <= 1e-7 * max(1.0, abs(alpha), abs(dead)) * max(1, len(contacts)) ** 0.5, \
         ("virtual work", alpha + dead, internal)
     return alpha
@@ -103,7 +107,8 @@ def check_state(structure, state, tol: float = 1e-7) -> float:
     u = np.asarray(state.u, dtype=float).reshape(-1, 3)
     blocks = pd.DataFrame({"block": s.blocks, "x": s.centroid[:, 0], "y": s.centroid[:, 1],
                            "dead_x": s.dead[:, 0], "dead_y": s.dead[:, 1], "live_x": s.live[:, 0],
-                           "live_y": s.live[:, 1], "ux": u[:, 0], "uy": u[:, 1], "theta": u[:, 2]})
+                           "live_y": s.live[:, 1], "ux": u[:, 0], "uy": u[:, 1], "theta": u[:, 2],
+                           "dead_m": s.dead_m, "live_m": s.live_m})
     contacts = pd.DataFrame({"contact": s.contacts, "block_a": s.block_a, "block_b": s.block_b,
                              "cx": s.centre[:, 0], "cy": s.centre[:, 1], "nx": s.normal[:, 0], "ny": s.normal[:, 1],
                              "d": s.d, "mu": s.mu, "N": state.N, "V": state.V, "M": state.M})
@@ -116,7 +121,7 @@ def equilibrium_residual(s, N, V, M, alpha) -> float:
     res = {b: np.zeros(3) for b in s.blocks}
     for j, b in enumerate(s.blocks):
         g, f = s.centroid[j], s.dead[j] + alpha * s.live[j]
-        res[b] += [f[0], f[1], g[0] * f[1] - g[1] * f[0]]
+        res[b] += [f[0], f[1], g[0] * f[1] - g[1] * f[0] + s.dead_m[j] + alpha * s.live_m[j]]
     for k in range(s.n_contacts):
         n = s.normal[k]
         t = np.array([-n[1], n[0]])

@@ -54,12 +54,14 @@ def equilibrium_matrix(s: Structure) -> sp.csr_matrix:
 
 
 def load_vectors(s: Structure):
-    """(f0, fbar) of eq. (2), each of length 3 nb: forces at the centroids (no couple)."""
+    """(f0, fbar) of eq. (2), each of length 3 nb: the resultants at the centroids and, in
+    the m rows, their moments about the centroids (eq. 1's x ^ f of loads applied
+    elsewhere, e.g. point loads: ``Structure.dead_m``, ``live_m``)."""
     nb = s.n_blocks
     f0 = np.zeros(3 * nb)
     fb = np.zeros(3 * nb)
-    f0[0::3], f0[1::3] = s.dead[:, 0], s.dead[:, 1]
-    fb[0::3], fb[1::3] = s.live[:, 0], s.live[:, 1]
+    f0[0::3], f0[1::3], f0[2::3] = s.dead[:, 0], s.dead[:, 1], s.dead_m
+    fb[0::3], fb[1::3], fb[2::3] = s.live[:, 0], s.live[:, 1], s.live_m
     return f0, fb
 
 
@@ -96,6 +98,8 @@ def xi_bounds(s: Structure, factor: float = 100.0) -> np.ndarray:
     order 1e7 on contacts with N ~ 0 turn 1e-8 violations into a fake, low alpha.
     """
     mag = np.hypot(s.live[:, 0], s.live[:, 1])
+    if not np.any(mag > 0):  # only live couples: a couple m turning a block by u/L does work m u/L
+        mag = np.abs(s.live_m) / s.size()
     U = 1.0 / mag[mag > 0].min()
     slide = np.full(s.n_contacts, factor * U)
     hinge = factor * U / s.d

@@ -35,7 +35,7 @@ from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Const
                            Objective, Param, Reals, Set, Var, minimize, inequality)
 
 from ..search import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt') for the users of the model
-from ..structure import BLOCK_PARAMS, CONTACT_PARAMS, YIELD_ROWS, Structure
+from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, YIELD_ROWS, Structure
 from .matrices import Formulation, xi_bounds
 
 __all__ = ["BLOCK_PARAMS", "CONTACT_PARAMS", "LimitAnalysisBlock", "create_abstract_model", "create_model",
@@ -63,6 +63,8 @@ def declare_params(b, structure: Structure | None = None, xi_factor: float = 100
     s = structure
     docs = {"x": "centroid x", "y": "centroid y", "dead_x": "constant force f0, x", "dead_y": "constant force f0, y",
             "live_x": "base live force fbar, x", "live_y": "base live force fbar, y",
+            "dead_m": "moment of f0 about the centroid (point loads; default 0)",
+            "live_m": "moment of fbar about the centroid (point loads; default 0)",
             "block_a": "block a (or a support); the force acts on a",
             "block_b": "block b (or a support); its opposite acts on b", "cx": "contact centre x",
             "cy": "contact centre y", "nx": "unit normal from a to b, x", "ny": "unit normal from a to b, y",
@@ -70,6 +72,7 @@ def declare_params(b, structure: Structure | None = None, xi_factor: float = 100
     if s is not None:
         block_cols = dict(zip(BLOCK_PARAMS, (s.centroid[:, 0], s.centroid[:, 1], s.dead[:, 0], s.dead[:, 1],
                                              s.live[:, 0], s.live[:, 1])))
+        block_cols.update(dead_m=s.dead_m, live_m=s.live_m)
         contact_cols = dict(zip(CONTACT_PARAMS, (s.block_a, s.block_b, s.centre[:, 0], s.centre[:, 1],
                                                  s.normal[:, 0], s.normal[:, 1], s.d, s.mu)))
     def data(values):  # without a structure, the values come later from a .dat file
@@ -77,6 +80,9 @@ def declare_params(b, structure: Structure | None = None, xi_factor: float = 100
 
     for name in BLOCK_PARAMS:
         b.add_component(name, Param(b.BLOCKS, within=Reals, doc=docs[name],
+                                    **data(lambda: dict(zip(s.blocks, map(float, block_cols[name]))))))
+    for name in BLOCK_MOMENT_PARAMS:  # optional in a .dat file: old files stay valid
+        b.add_component(name, Param(b.BLOCKS, within=Reals, default=0.0, doc=docs[name],
                                     **data(lambda: dict(zip(s.blocks, map(float, block_cols[name]))))))
     for name in CONTACT_PARAMS:
         text = name in ("block_a", "block_b")
@@ -104,6 +110,7 @@ def _structure_of_params(b) -> Structure:
         name=b.name, blocks=blocks, centroid=np.column_stack([col("x", blocks), col("y", blocks)]),
         dead=np.column_stack([col("dead_x", blocks), col("dead_y", blocks)]),
         live=np.column_stack([col("live_x", blocks), col("live_y", blocks)]),
+        dead_m=col("dead_m", blocks), live_m=col("live_m", blocks),
         supports=list(b.SUPPORTS), contacts=contacts, block_a=col("block_a", contacts),
         block_b=col("block_b", contacts),
         centre=np.column_stack([col("cx", contacts), col("cy", contacts)]).reshape(-1, 2),

@@ -32,7 +32,7 @@ from collections import defaultdict
 import numpy as np
 
 from ..errors import InputError
-from ..structure import BLOCK_PARAMS, CONTACT_PARAMS, Structure
+from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, Structure
 from .files import atomic_write_text, read_text
 
 
@@ -44,7 +44,7 @@ def _schema():
     for name in ("BLOCKS", "SUPPORTS", "CONTACTS"):
         m.add_component(name, Set(dimen=1, ordered=True))
     m.VERTICES = Set(dimen=2, ordered=True)
-    for name in BLOCK_PARAMS:
+    for name in BLOCK_PARAMS + BLOCK_MOMENT_PARAMS:
         m.add_component(name, Param(m.BLOCKS, within=Any))
     for name in CONTACT_PARAMS:
         m.add_component(name, Param(m.CONTACTS, within=Any))
@@ -70,7 +70,13 @@ def write_dat(structure: Structure, path) -> str:
     for j, b in enumerate(s.blocks):
         vals = (*s.centroid[j], *s.dead[j], *s.live[j])
         lines.append(f"  {b} " + " ".join(_fmt(v) for v in vals))
-    lines += [";", "", "param: " + " ".join(CONTACT_PARAMS) + " :="]
+    lines.append(";")
+    if np.any(s.dead_m) or np.any(s.live_m):  # optional table: files without it stay as before
+        lines += ["", "# moments of the loads about the centroids (point loads), default 0",
+                  "param: " + " ".join(BLOCK_MOMENT_PARAMS) + " :="]
+        lines += [f"  {b} {_fmt(s.dead_m[j])} {_fmt(s.live_m[j])}" for j, b in enumerate(s.blocks)]
+        lines.append(";")
+    lines += ["", "param: " + " ".join(CONTACT_PARAMS) + " :="]
     for k, c in enumerate(s.contacts):
         vals = (*s.centre[k], *s.normal[k], s.d[k], s.mu[k])
         lines.append(f"  {c} {s.block_a[k]} {s.block_b[k]} " + " ".join(_fmt(v) for v in vals))
@@ -162,7 +168,7 @@ def _unknown_name(path: str, text: str, name: str) -> str:
         if line.strip().startswith("param") and re.search(rf"(?<![\w.]){re.escape(name)}(?![\w.])", declared):
             where = f"{path}, line {lineno}"
             break
-    known = ", ".join((*BLOCK_PARAMS, *CONTACT_PARAMS, "vx", "vy"))
+    known = ", ".join((*BLOCK_PARAMS, *BLOCK_MOMENT_PARAMS, *CONTACT_PARAMS, "vx", "vy"))
     return f"{where}: unknown parameter '{name}'; expected only the parameters {known}"
 
 
@@ -224,10 +230,13 @@ def read_dat(path) -> Structure:
     if not blocks:
         raise InputError(f"{path}: the set BLOCKS is empty; expected at least one movable block")
 
-    def column(key, ids, kind, numeric=True):
+    def column(key, ids, kind, numeric=True, default=None):
         table = get_param(key)
         out = []
         for i in ids:
+            if i not in table and default is not None:
+                out.append(default)
+                continue
             if i not in table:
                 raise InputError(f"{path}: parameter {key} of {kind} '{i}' is missing; expected a value for every {kind}")
             v = table[i]
@@ -246,6 +255,7 @@ def read_dat(path) -> Structure:
         return out
 
     bcols = {k: column(k, blocks, "block") for k in BLOCK_PARAMS}
+    bcols.update({k: column(k, blocks, "block", default=0.0) for k in BLOCK_MOMENT_PARAMS})
     ccols = {k: column(k, contacts, "contact", numeric=k not in ("block_a", "block_b")) for k in CONTACT_PARAMS}
     polygons = defaultdict(list)
     vx, vy = get_param("vx"), get_param("vy")
@@ -264,6 +274,7 @@ def read_dat(path) -> Structure:
         centroid=np.column_stack([bcols["x"], bcols["y"]]),
         dead=np.column_stack([bcols["dead_x"], bcols["dead_y"]]),
         live=np.column_stack([bcols["live_x"], bcols["live_y"]]),
+        dead_m=bcols["dead_m"], live_m=bcols["live_m"],
         supports=supports, contacts=contacts,
         block_a=[str(v) for v in ccols["block_a"]], block_b=[str(v) for v in ccols["block_b"]],
         centre=np.column_stack([ccols["cx"], ccols["cy"]]).reshape(-1, 2),

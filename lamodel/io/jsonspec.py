@@ -16,12 +16,24 @@ hand. The JSON format::
                    "support": true} ] }
 
 Per body, optional: ``"support": true`` (a fixed body), ``"dead": [fx, fy]`` and
-``"live": [fx, fy]`` replacing the computed loads, ``"mu"`` (a contact takes the smaller
-``mu`` of its two bodies), ``"description"``.
+``"live": [fx, fy]`` replacing the computed loads, ``"dead_m"``/``"live_m"`` (couples about
+the centroid), ``"mu"`` (a contact takes the smaller ``mu`` of its two bodies),
+``"description"``.
 
 Loads. The dead load of a block is its weight ``unit_weight * area`` pointing down; its live
 load is ``live_load * unit_weight * area`` (the base load that alpha multiplies). Both act
-at the centroid of the polygon.
+at the centroid of the polygon. Optional, at the top level (:mod:`lamodel.loads`):
+
+* ``"loads": [{"block": "v3", "at": [x, y], "force": [fx, fy], "kind": "live" | "dead",
+  "case": "name"}]`` — point loads where they act (their moment about the centroid enters
+  eq. 1); ``kind`` defaults to live; a live load with a ``case`` belongs to that load case
+  only, without one to every case;
+* ``"rolling_load": {"force": [fx, fy], "axles": [0, 1.5], "positions": [x, ...]}`` — a
+  live axle group moved across the top (``positions`` omitted: the top edges' midpoints);
+* ``"units": {"length": "m", "force": "kN"}`` — carried into tables, CSV, pictures, report.
+
+When the file gives live point loads or a rolling load but no ``"live_load"``, the blocks'
+own live load is zero: alpha multiplies only the loads written.
 
 Contacts. Two bodies are in contact where an edge of one and an edge of the other lie on
 one line (within the tolerance), face each other (opposite outward normals) and overlap
@@ -63,8 +75,12 @@ from ..structure import Structure
 #: points closer than ``DEFAULT_TOLERANCE * size`` are the same point.
 DEFAULT_TOLERANCE = 1e-9
 
-TOP_FIELDS = ("name", "description", "mu", "unit_weight", "live_load", "tolerance", "blocks")
-BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "mu", "description")
+TOP_FIELDS = ("name", "description", "mu", "unit_weight", "live_load", "tolerance", "blocks", "loads", "units",
+              "rolling_load")
+BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
+LOAD_FIELDS = ("block", "at", "force", "kind", "case")
+ROLLING_FIELDS = ("force", "axles", "positions")
+UNIT_FIELDS = ("length", "force")
 
 
 # ================================================================== reading the JSON
@@ -134,6 +150,7 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
 
     # --- per body: id, raw vertices, flags (parsed first: the tolerance needs the size)
     ids, raw, is_support, mus, dead_over, live_over = [], [], [], [], {}, {}
+    moment_over = {"dead_m": {}, "live_m": {}}
     seen, unknown = {}, set()
     for pos, body in enumerate(bodies):
         if not isinstance(body, dict):
@@ -173,6 +190,9 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
                     warnings.warn(f"{at} is a support: its '{key}' load is ignored", stacklevel=3)
                 else:
                     store[pos] = _vector2(body[key], at, f"'{key}'")
+        for key, store in moment_over.items():
+            if key in body and not support:
+                store[pos] = _number(body[key], at, f"'{key}'")
         ids.append(bid)
     if unknown:
         _warn_unknown(where, unknown, BODY_FIELDS, "block")
@@ -209,6 +229,13 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
     for pos, f in live_over.items():
         live[row[pos]] = f
 
+    dead_m, live_m = np.zeros(len(moving)), np.zeros(len(moving))
+    for store, arr in ((moment_over["dead_m"], dead_m), (moment_over["live_m"], live_m)):
+        for pos, m in store.items():
+            arr[row[pos]] = m
+    if "live_load" not in spec and _writes_live(spec):
+        live[:] = 0.0  # alpha multiplies only the live loads the file writes
+
     mus = np.asarray(mus)
     structure = Structure(
         name=name,
@@ -225,11 +252,114 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
         d=contacts["d"],
         mu=np.minimum(mus[ia], mus[ib]),
         polygons={b: p for b, p in zip(ids, polygons)},
+        dead_m=dead_m, live_m=live_m, units=_units(spec, where),
     )
+    _point_loads(spec, where, structure, tol)
+    if "rolling_load" in spec:
+        structure.rolling = _rolling(spec["rolling_load"], where)
+        if structure.cases:
+            raise InputError(f"{where}: the file has load cases and a rolling load; expected one or the other "
+                             "(a rolling load is a study of its own)")
     try:
         return structure.validate()
     except InputError as exc:  # name the file, not the structure ("structure 'x': ...")
         raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
+
+
+def _writes_live(spec) -> bool:
+    loads = spec.get("loads")
+    point = isinstance(loads, list) and any(isinstance(x, dict) and x.get("kind", "live") == "live" for x in loads)
+    return point or "rolling_load" in spec
+
+
+def _object(value, where, what, known):
+    if not isinstance(value, dict):
+        raise InputError(f"{where}: {what} is {json.dumps(value)[:60]}; expected an object with fields {', '.join(known)}")
+    _warn_unknown(where, value.keys(), known, what)
+    return value
+
+
+def _units(spec, where) -> dict:
+    if "units" not in spec:
+        return {}
+    units = _object(spec["units"], where, "'units'", UNIT_FIELDS)
+    for key, value in units.items():
+        if key in UNIT_FIELDS and (not isinstance(value, str) or not value.strip()):
+            raise InputError(f"{where}: units '{key}' is {json.dumps(value)}; expected a unit name such as "
+                             + ("'m'" if key == "length" else "'kN'"))
+    return {k: units[k].strip() for k in UNIT_FIELDS if k in units}
+
+
+def _point_loads(spec, where, structure, tol):
+    """Point loads into the structure: dead ones into dead/dead_m, live ones into the
+    common live pattern or their load case (:mod:`lamodel.loads`)."""
+    from ..loads import KINDS, LoadCase, PointLoad, add_point_load, on_polygon
+    loads = spec.get("loads", [])
+    if not isinstance(loads, list):
+        raise InputError(f"{where}: 'loads' is {json.dumps(loads)[:40]}; expected a list of point loads "
+                         "{\"block\", \"at\", \"force\", \"kind\", \"case\"}")
+    index = structure.block_index()
+    parsed = []
+    for i, raw in enumerate(loads):
+        at = f"{where}: loads[{i}]"
+        load = _object(raw, at, "the point load", LOAD_FIELDS)
+        block = str(load.get("block"))
+        if block not in index:
+            raise InputError(f"{at} names block '{block}', which is not a movable block; expected the id of a "
+                             "block that is not a support")
+        for key in ("at", "force"):
+            if key not in load:
+                raise InputError(f"{at} has no '{key}'; expected \"{key}\": [x, y]")
+        point, force = _vector2(load["at"], at, "'at'"), _vector2(load["force"], at, "'force'")
+        kind = load.get("kind", "live")
+        if kind not in KINDS:
+            raise InputError(f"{at}: 'kind' is {json.dumps(kind)}; expected \"live\" or \"dead\"")
+        case = load.get("case", "")
+        if not isinstance(case, str):
+            raise InputError(f"{at}: 'case' is {json.dumps(case)}; expected a case name (text)")
+        if case and kind == "dead":
+            raise InputError(f"{at}: a dead load with case '{case}'; expected dead loads without a case "
+                             "(they act in every case)")
+        if not on_polygon(point, structure.polygons[block], tol + 1e-9 * structure.size()):
+            raise InputError(f"{at}: point {point.tolist()} is not on block '{block}'; expected a point inside "
+                             "or on the boundary of the block")
+        parsed.append(PointLoad(block, tuple(point), tuple(force), kind, case))
+    common = [p for p in parsed if not p.case]
+    for p in common:
+        if p.kind == "dead":
+            add_point_load(structure.dead, structure.dead_m, structure, p)
+        else:
+            add_point_load(structure.live, structure.live_m, structure, p)
+    structure.point_loads = common
+    for name in dict.fromkeys(p.case for p in parsed if p.case):
+        case = LoadCase(name, structure.live.copy(), structure.live_m.copy(), list(common))
+        for p in parsed:
+            if p.case == name:
+                add_point_load(case.live, case.live_m, structure, p)
+                case.point_loads.append(p)
+        structure.cases[name] = case
+
+
+def _rolling(value, where):
+    from ..loads import RollingLoad
+    r = _object(value, where, "'rolling_load'", ROLLING_FIELDS)
+    if "force" not in r:
+        raise InputError(f"{where}: 'rolling_load' has no 'force'; expected \"force\": [fx, fy] per axle")
+    force = _vector2(r["force"], where, "the rolling load's 'force'")
+    if not np.any(force):
+        raise InputError(f"{where}: the rolling load's 'force' is zero; expected a non-zero force per axle")
+    axles = r.get("axles", [0.0])
+    if not isinstance(axles, list) or not axles:
+        raise InputError(f"{where}: the rolling load's 'axles' is {json.dumps(axles)}; expected a list of offsets "
+                         "from the lead axle, e.g. [0, 1.5]")
+    axles = tuple(_number(a, where, "an axle offset") for a in axles)
+    positions = r.get("positions")
+    if positions is not None:
+        if not isinstance(positions, list) or not positions:
+            raise InputError(f"{where}: the rolling load's 'positions' is {json.dumps(positions)[:40]}; expected "
+                             "a list of abscissas of the lead axle (or no field: the top edges' midpoints)")
+        positions = tuple(_number(x, where, "a rolling load position") for x in positions)
+    return RollingLoad(tuple(force), axles, positions)
 
 
 # ==================================================================== writing JSON
@@ -263,6 +393,8 @@ def _spec_of_structure(s: Structure) -> dict:
         raise InputError(f"structure '{s.name}': block '{missing[0]}' has no polygon; expected polygons for every "
                          "body to write the geometry as JSON")
     spec = {"name": s.name}
+    if s.units:
+        spec["units"] = dict(s.units)
     uniform = s.n_contacts and np.allclose(s.mu, s.mu[0], rtol=0, atol=1e-15)
     body_mu = {}
     if uniform:
@@ -279,6 +411,9 @@ def _spec_of_structure(s: Structure) -> dict:
     for j, b in enumerate(s.blocks):
         body = {"id": b, "vertices": s.polygons[b].tolist(),
                 "dead": s.dead[j].tolist(), "live": s.live[j].tolist()}
+        for key, arr in (("dead_m", s.dead_m), ("live_m", s.live_m)):
+            if arr[j]:
+                body[key] = float(arr[j])
         if b in body_mu:
             body["mu"] = body_mu[b]
         blocks.append(body)

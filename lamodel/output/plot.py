@@ -21,6 +21,8 @@ import numpy as np  # noqa: E402
 from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import FancyArrowPatch  # noqa: E402
+from matplotlib.path import Path as MplPath  # noqa: E402
 
 from ..errors import InputError  # noqa: E402
 from ..structure import Structure  # noqa: E402
@@ -32,6 +34,10 @@ _SUPPORT = dict(facecolor="#5a5a5a", edgecolor="#303030", linewidth=0.8, hatch="
 _BLOCK_MOVED = dict(facecolor="#f4a259", edgecolor="#7a3b00", linewidth=0.8, alpha=0.75)
 _HINGE_COLOUR = "#c0392b"
 _SLIDE_COLOUR = "#1f5fbf"
+_HIGHLIGHT = "#e03030"
+_DEAD_COLOUR = "#606060"
+_LIVE_COLOUR = "#1e8449"
+_THRUST_COLOUR = "#8e44ad"
 
 
 def _block_motion(structure: Structure, u) -> np.ndarray:
@@ -102,8 +108,19 @@ def pivots(structure: Structure, u) -> np.ndarray:
     return c + np.where(plus, 1.0, -1.0)[:, None] * d[:, None] * t
 
 
+def default_scale(structure: Structure, u) -> float:
+    """The amplification that draws the largest vertex displacement as 10 % of the size."""
+    s = structure
+    biggest = np.hypot(u[:, 0], u[:, 1]).max(initial=0.0)
+    for j, b in enumerate(s.blocks):
+        if b in s.polygons and len(s.polygons[b]) >= 3:
+            m = displace(s.polygons[b], s.centroid[j], u[j])
+            biggest = max(biggest, np.hypot(m[:, 0], m[:, 1]).max())
+    return 0.1 * s.size() / biggest if biggest > 0 else 1.0
+
+
 def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=None, path="mechanism.png",
-                   scale=None, ax=None):
+                   scale=None, ax=None, loads=True, thrust=None, highlight=None, title=None):
     """Draw the blocks at rest and displaced by the mechanism ``u``; save to ``path``.
 
     ``u`` is (n_blocks, 3): (u_x, u_y, theta) at each block centroid. ``modes`` (one of
@@ -112,6 +129,12 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     u; by default the largest vertex displacement is drawn as 10 % of the structure's
     size. With ``ax`` the picture is drawn into that axes (and its figure saved if
     ``path`` is given). Returns ``path``.
+
+    Also drawn: the joints numbered as in the mechanism in words (:func:`.words.joint_marks`)
+    with each hinge's rotation sense and each slip's direction; with ``loads`` arrows for
+    the dead (grey) and live (green, times alpha) loads, point loads where they act; with
+    ``thrust = (N, M)`` the line of thrust of an arch (:func:`.words.thrust_line`);
+    ``highlight`` (block ids) drawn in red; the displacement amplification in a caption.
     """
     s = structure
     u = _block_motion(s, u)
@@ -133,9 +156,7 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     with_polygon = [j for j, b in enumerate(s.blocks) if b in s.polygons and len(s.polygons[b]) >= 3]
     moved = {j: displace(s.polygons[s.blocks[j]], s.centroid[j], u[j]) for j in with_polygon}
     if scale is None:
-        biggest = max((np.hypot(m[:, 0], m[:, 1]).max() for m in moved.values()), default=0.0)
-        biggest = max(biggest, np.hypot(u[:, 0], u[:, 1]).max(initial=0.0))
-        scale = 0.1 * s.size() / biggest if biggest > 0 else 1.0
+        scale = default_scale(s, u)
 
     own = ax is None
     if own:
@@ -147,7 +168,12 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
         rest = [s.polygons[s.blocks[j]] for j in with_polygon]
         ax.add_collection(PolyCollection(rest, **_BLOCK_REST, zorder=1))
         shifted = [s.polygons[s.blocks[j]] + scale * moved[j] for j in with_polygon]
-        ax.add_collection(PolyCollection(shifted, **_BLOCK_MOVED, zorder=2))
+        moved_style = dict(_BLOCK_MOVED)
+        if highlight:
+            marked = set(highlight)
+            moved_style["facecolor"] = [_HIGHLIGHT if s.blocks[j] in marked else _BLOCK_MOVED["facecolor"]
+                                        for j in with_polygon]
+        ax.add_collection(PolyCollection(shifted, **moved_style, zorder=2))
     no_polygon = np.array([j for j in range(s.n_blocks) if j not in moved], dtype=int)
     if no_polygon.size:
         g = s.centroid[no_polygon]
@@ -173,18 +199,29 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
         p = p + scale * _point_motion(s, u, ia[k], p)
         ax.plot(p[:, 0], p[:, 1], "o", color=_HINGE_COLOUR, ms=6, mec="white", mew=0.8, zorder=5)
         legend.append(Line2D([], [], marker="o", ls="", color=_HINGE_COLOUR, mec="white", label="hinge"))
+    extent = [p for p in s.polygons.values()] or [s.centroid]
+    _joint_numbers(ax, s, u, modes, scale, ia)
+    if loads:
+        extent += _load_arrows(ax, s, alpha, legend)
+    if thrust is not None:
+        _thrust(ax, s, *thrust, legend)
+    if highlight:
+        legend.append(Line2D([], [], marker="s", ls="", color=_HIGHLIGHT, label="moving under dead load"))
 
-    title = s.name
-    if alpha is not None:
-        title += f":  α = {alpha + 0.0:.5g}"  # + 0.0: -0.0 (mu = 0) is drawn as 0
-        if certified is not None:
-            title += " (certified)" if certified else " (NOT certified)"
+    if title is None:
+        title = s.name
+        if alpha is not None:
+            title += f":  α = {alpha + 0.0:.5g}"  # + 0.0: -0.0 (mu = 0) is drawn as 0
+            if certified is not None:
+                title += " (certified)" if certified else " (NOT certified)"
     ax.set_title(title)
     ax.set_aspect("equal")
+    ax.update_datalim(np.vstack(extent))
     ax.margins(0.03)
     ax.autoscale_view()
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    length = f" [{s.units['length']}]" if s.units.get("length") else ""
+    ax.set_xlabel("x" + length + (f"      (displacements drawn × {scale:.3g})" if np.any(u) else ""))
+    ax.set_ylabel("y" + length)
     if legend:
         ax.legend(handles=legend, loc="best", fontsize="small", framealpha=0.8)
     if path is not None:
@@ -194,3 +231,121 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     if own:
         plt.close(fig)
     return path
+
+
+# ------------------------------------------------------------------ annotations
+def _arrow(ax, tail, tip, colour, lw=1.0, **kw):
+    ax.annotate("", xy=tuple(tip), xytext=tuple(tail), zorder=6,
+                arrowprops=dict(arrowstyle="-|>", color=colour, lw=lw, shrinkA=0, shrinkB=0, **kw))
+
+
+def _joint_numbers(ax, s, u, modes, scale, ia):
+    """The joints' numbers (as in the words), each hinge's rotation sense (a curved arrow
+    turning as b turns relative to a) and each slip's direction (b relative to a)."""
+    from .words import joint_marks
+    size = s.size()
+    for m in joint_marks(s, u, modes):
+        k = s.contacts.index(m.contact)
+        p = m.point + scale * _point_motion(s, u, ia[k:k + 1], m.point[None, :])[0]
+        if m.kind == "hinge":
+            r = 0.025 * size
+            if m.vector[0] != 0:  # an arc around the hinge, turning as b turns relative to a
+                sense = 1.0 if m.vector[0] > 0 else -1.0
+                a = np.radians(120.0 + sense * np.linspace(-70.0, 70.0, 24))
+                arc = MplPath(p + r * np.column_stack([np.cos(a), np.sin(a)]))
+                ax.add_patch(FancyArrowPatch(path=arc, arrowstyle="-|>", mutation_scale=9, color=_HINGE_COLOUR,
+                                             lw=1.0, zorder=6))
+            ax.annotate(str(m.number), p, xytext=(4, 4), textcoords="offset points", fontsize=7,
+                        color=_HINGE_COLOUR, fontweight="bold", zorder=7)
+        else:
+            if np.any(m.vector):
+                v = m.vector / np.hypot(*m.vector)
+                _arrow(ax, p, p + 0.05 * size * v, _SLIDE_COLOUR, lw=1.2)
+            ax.annotate(str(m.number), p, xytext=(-10, 4), textcoords="offset points", fontsize=7,
+                        color=_SLIDE_COLOUR, fontweight="bold", zorder=7)
+
+
+def _load_arrows(ax, s, alpha, legend):
+    """Dead and live loads as arrows: body loads from the centroids, point loads ending
+    where they act. Lengths are proportional to the forces (the largest 12 % of the size);
+    live loads are drawn times alpha when alpha is known. Returns the arrow ends."""
+    factor = alpha if alpha is not None and np.isfinite(alpha) and alpha > 0 else 1.0
+    body = {"dead": s.dead.copy(), "live": s.live.copy()}
+    points = []
+    for p in s.point_loads:
+        j = s.block_index().get(p.block)
+        if j is None:
+            continue
+        body[p.kind][j] -= p.force  # the rest of the block's load acts at its centroid
+        points.append((p.kind, np.array(p.at, dtype=float), np.array(p.force, dtype=float)))
+    arrows = []
+    for kind in ("dead", "live"):
+        f = body[kind] * (factor if kind == "live" else 1.0)
+        for j in np.flatnonzero(np.hypot(f[:, 0], f[:, 1]) > 1e-12 * max(1.0, np.abs(f).max())):
+            arrows.append((kind, s.centroid[j], f[j], False))
+    arrows += [(kind, at, f * (factor if kind == "live" else 1.0), True) for kind, at, f in points]
+    if not arrows:
+        return []
+    biggest = max(np.hypot(*f) for _, _, f, _ in arrows)
+    length = 0.12 * s.size() / biggest
+    ends = []
+    for kind, at, f, at_point in arrows:
+        colour = _DEAD_COLOUR if kind == "dead" else _LIVE_COLOUR
+        tail, tip = (at - length * f, at) if at_point else (at, at + length * f)
+        _arrow(ax, tail, tip, colour, lw=1.6 if at_point else 0.7)
+        ends += [tail, tip]
+    force = f" [{s.units['force']}]" if s.units.get("force") else ""
+    kinds = {k for k, *_ in arrows}
+    if "dead" in kinds:
+        legend.append(Line2D([], [], color=_DEAD_COLOUR, marker=">", label="dead load" + force))
+    if "live" in kinds:
+        legend.append(Line2D([], [], color=_LIVE_COLOUR, marker=">",
+                             label="live load" + (" × α" if factor != 1.0 else "") + force))
+    return [np.array(ends)]
+
+
+def _thrust(ax, s, N, M, legend):
+    """The line of thrust of an arch: the centres of pressure of its ring joints."""
+    from .words import thrust_line
+    line = thrust_line(s, N, M)
+    if line is None or not len(line[0]):
+        return
+    p = line[0]
+    ax.plot(p[:, 0], p[:, 1], "-", marker="x", ms=4, color=_THRUST_COLOUR, lw=1.2, zorder=3)
+    legend.append(Line2D([], [], color=_THRUST_COLOUR, marker="x", label="line of thrust"))
+
+
+def animate_mechanism(structure: Structure, u, path, modes=None, alpha=None, certified=None, frames: int = 20,
+                      thrust=None, highlight=None) -> str:
+    """A GIF of the mechanism growing from rest to the picture's amplification
+    (matplotlib.animation with Pillow); written atomically. Returns ``path``."""
+    import tempfile
+
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    from ..io.files import remove_quietly
+    s = structure
+    u = _block_motion(s, u)
+    full = default_scale(s, u)
+    fig, ax = plt.subplots(figsize=(7, 5))
+
+    def frame(i):
+        ax.clear()
+        f = i / max(frames - 1, 1)
+        plot_mechanism(s, u, modes=modes, alpha=alpha, certified=certified, path=None, scale=max(f, 1e-9) * full,
+                       ax=ax, thrust=thrust, highlight=highlight)
+        return []
+
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".gif", dir=path.parent or ".")
+    os.close(fd)
+    try:
+        # PIL picks the format from the suffix: the temporary file keeps .gif
+        FuncAnimation(fig, frame, frames=frames, blit=False).save(tmp, writer=PillowWriter(fps=8), dpi=90)
+        os.replace(tmp, path)
+    except BaseException:
+        remove_quietly(tmp)
+        raise
+    finally:
+        plt.close(fig)
+    return str(path)

@@ -11,9 +11,14 @@ from .modes import modes_from_flow
 from .results import Results
 
 
-def outcome_results(outcome: Outcome) -> Results:
+def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Results:
     """The four tables of a solve. Without a certified state, alpha, forces and the
-    mechanism are NaN: nothing uncertified is reported as a collapse multiplier."""
+    mechanism are NaN: nothing uncertified is reported as a collapse multiplier.
+
+    Beyond the contract: blocks.csv has ``dead_m``, ``live_m`` (moments of the loads about
+    the centroid, e.g. of point loads, so that an external checker can rebuild eq. 1);
+    summary.csv has ``length_unit``, ``force_unit`` ("-" when the input gave none) and the
+    columns of ``extra_summary`` (e.g. the governing load case)."""
     s, best = outcome.structure, outcome.best
     nb, nc = s.n_blocks, s.n_contacts
     if best is not None:
@@ -27,7 +32,7 @@ def outcome_results(outcome: Outcome) -> Results:
     blocks = pd.DataFrame({
         "block": s.blocks, "x": s.centroid[:, 0], "y": s.centroid[:, 1],
         "dead_x": s.dead[:, 0], "dead_y": s.dead[:, 1], "live_x": s.live[:, 0], "live_y": s.live[:, 1],
-        "ux": u[:, 0], "uy": u[:, 1], "theta": u[:, 2]})
+        "ux": u[:, 0], "uy": u[:, 1], "theta": u[:, 2], "dead_m": s.dead_m, "live_m": s.live_m})
     contacts = pd.DataFrame({
         "contact": s.contacts, "block_a": s.block_a, "block_b": s.block_b,
         "cx": s.centre[:, 0], "cy": s.centre[:, 1], "nx": s.normal[:, 0], "ny": s.normal[:, 1],
@@ -47,5 +52,7 @@ def outcome_results(outcome: Outcome) -> Results:
         "n_certified": int(np.isfinite(runs["alpha_certified"].astype(float)).sum()) if len(runs) else 0,
         "wall_time_s": outcome.wall_time_s,
         "status": outcome.status, "message": outcome.message, "seed": outcome.seed,
+        "length_unit": s.units.get("length", "-"), "force_unit": s.units.get("force", "-"),
+        **(extra_summary or {}),
     }
     return Results.from_frames(summary, blocks, contacts, runs)

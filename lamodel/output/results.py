@@ -284,6 +284,8 @@ def _write_table(path: Path, df: pd.DataFrame):
 #: The files of a result folder (the picture's name is recorded in summary.csv's
 #: ``picture`` column by the command line; ``mechanism.*`` is its default name).
 RESULT_FILES = tuple(name for name, _, _ in TABLES.values())
+#: What ``lamodel solve`` writes beside them for --method all, load cases, rolling loads.
+COMPANION_FILES = ("methods.csv", "cases.csv", "rolling.csv", "rolling.png")
 PICTURE_STEM = "mechanism"
 _PICTURE_EXTENSIONS = {"png", "svg", "svgz", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf",
                        "raw", "rgba", "gif", "avif"}  # matplotlib's formats
@@ -307,7 +309,7 @@ def foreign_files(folder, names) -> list:
     """The names in a result folder that lamodel did not write (they make it refuse to
     replace the folder: a user's own files are never deleted)."""
     folder = Path(folder)
-    ours = set(RESULT_FILES) | {_recorded_picture(folder)} - {""}
+    ours = {*RESULT_FILES, *COMPANION_FILES, _recorded_picture(folder)} - {""}
 
     def owned(name):
         if name in ours or (name.startswith(PICTURE_STEM + ".")

@@ -115,7 +115,9 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
                         screen.n_solves + lps.n_solves - lp0, time.perf_counter() - ga_start))
         # ---- Ipopt multistart on eq. (5) from the best distinct states
         if pool is not None:
-            starts = final.best(opt.starts) or ([_associative_start(lps, assoc)] if assoc is not None else [])
+            starts = final.best(opt.starts)
+            if not starts and assoc is not None:
+                starts = [s for s in [_associative_start(lps, assoc)] if s is not None]
             if out_of_time():
                 runs.extend(Run(i, "ipopt", status="time limit: not started") for i in range(1, opt.starts + 1))
             elif starts:
@@ -236,6 +238,10 @@ def _recertify(lps, state):
 
 
 def _associative_start(lps, assoc):
+    """The associative statics with the mechanism of its cohesive LP: an Ipopt start when
+    the LPs certified nothing; None when that LP did not finish (e.g. the time limit)."""
     N, V, M, alpha = lps.split(assoc.x)
     res, u, xi = lps.cohesive(-lps.structure.mu * N)
+    if not res.ok:
+        return None
     return CollapseState(alpha=alpha, N=N, V=V, M=M, u=u, xi=xi, flow=xi > 0, source="associative")

@@ -1,0 +1,181 @@
+"""Loads where they act: point loads, named live-load cases, a rolling load.
+
+A force f applied at a point x of block j (not at its centroid x_G) contributes to eq. (1)
+its resultant f and its moment ``(x - x_G) ^ f`` about the centroid; the moments go into
+the ``m`` rows of f0 (dead) and fbar (live) through ``Structure.dead_m`` / ``live_m``
+(:func:`lamodel.formulation.matrices.load_vectors`).
+
+* A **load case** is a named live-load pattern: the live loads common to every case (body
+  live loads and point loads without a case) plus the point loads of that case. Solving a
+  file with cases gives one alpha per case; the least governs.
+* A **rolling load** is a point load, or an axle group (offsets from the lead axle), moved
+  across the top of the structure: at each position x every axle acts, as a live load, on
+  the topmost body surface above its own abscissa (together with the common live loads).
+
+Every variant is a deep copy of the structure carrying one live pattern, so the driver
+solves it as any other structure.
+"""
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InputError
+from .structure import Structure
+
+KINDS = ("live", "dead")
+
+
+@dataclass(frozen=True)
+class PointLoad:
+    """A force ``force`` = (fx, fy) applied at the point ``at`` of ``block``; a live load
+    (multiplied by alpha) or a dead one. ``case`` names the load case ("" = every case)."""
+
+    block: str
+    at: tuple
+    force: tuple
+    kind: str = "live"
+    case: str = ""
+
+
+@dataclass
+class LoadCase:
+    """A named live-load pattern: forces and moments per block, and its point loads."""
+
+    name: str
+    live: np.ndarray
+    live_m: np.ndarray
+    point_loads: list = field(default_factory=list)
+
+
+@dataclass
+class RollingLoad:
+    """An axle group moved across the top: each axle carries ``force``; ``axles`` are the
+    offsets (along x) of the axles from the lead one; ``positions`` the lead axle's
+    abscissas (None: the midpoints of the top edges, :func:`top_positions`)."""
+
+    force: tuple
+    axles: tuple = (0.0,)
+    positions: tuple | None = None
+
+
+def moment(at, centroid, force) -> float:
+    """(at - centroid) ^ force: the moment about the centroid (eq. 1's x ^ f)."""
+    r = np.asarray(at, dtype=float) - np.asarray(centroid, dtype=float)
+    return float(r[0] * force[1] - r[1] * force[0])
+
+
+def add_point_load(force_rows, moment_rows, structure: Structure, load: PointLoad):
+    """Add ``load`` to the per-block force (nb, 2) and moment (nb,) arrays in place."""
+    j = structure.block_index()[load.block]
+    force_rows[j] += load.force
+    moment_rows[j] += moment(load.at, structure.centroid[j], load.force)
+
+
+def on_polygon(point, polygon, tol) -> bool:
+    """Whether a point lies inside or on a counter-clockwise convex polygon (within tol)."""
+    p, v = np.asarray(point, dtype=float), np.asarray(polygon, dtype=float)
+    e = np.roll(v, -1, axis=0) - v
+    r = p - v
+    cross = e[:, 0] * r[:, 1] - e[:, 1] * r[:, 0]
+    return bool((cross >= -tol * np.hypot(e[:, 0], e[:, 1])).all())
+
+
+# ------------------------------------------------------------------------ variants
+def _variant(structure: Structure, live, live_m, point_loads) -> Structure:
+    """A copy carrying one live pattern (no cases, no rolling load)."""
+    s = copy.copy(structure)
+    s.live, s.live_m = np.array(live, dtype=float), np.array(live_m, dtype=float)
+    s.dead, s.dead_m = structure.dead.copy(), structure.dead_m.copy()
+    s.point_loads = list(point_loads)
+    s.cases, s.rolling = {}, None
+    return s
+
+
+def case_structure(structure: Structure, name: str) -> Structure:
+    """The structure under load case ``name`` (its live loads only; dead loads as ever)."""
+    if name not in structure.cases:
+        raise InputError(f"structure '{structure.name}': no load case '{name}'; expected one of "
+                         f"{', '.join(structure.cases) or '(none)'}")
+    c = structure.cases[name]
+    return _variant(structure, c.live, c.live_m, c.point_loads)
+
+
+def rolling_structure(structure: Structure, x: float, rolling: RollingLoad | None = None) -> Structure:
+    """The structure with the rolling load's lead axle at abscissa ``x`` (plus the common
+    live loads). InputError when no axle lands on a movable block."""
+    rolling = rolling or structure.rolling
+    live, live_m = structure.live.copy(), structure.live_m.copy()
+    loads = list(structure.point_loads)
+    placed = 0
+    for offset in rolling.axles:
+        top = top_point(structure, x + offset)
+        if top is None:   # this axle is off the structure (or on a support)
+            continue
+        load = PointLoad(top[0], (x + offset, top[1]), tuple(rolling.force), "live", "rolling")
+        add_point_load(live, live_m, structure, load)
+        loads.append(load)
+        placed += 1
+    if not placed:
+        raise InputError(f"structure '{structure.name}': at position x = {x:g} no axle of the rolling load stands on "
+                         "a movable block; expected positions over the top of the structure")
+    return _variant(structure, live, live_m, loads)
+
+
+# ------------------------------------------------------------------------ the top
+def _crossings(polygon, x):
+    """The y values where the vertical line at x meets the polygon's edges."""
+    v = np.asarray(polygon, dtype=float)
+    a, b = v, np.roll(v, -1, axis=0)
+    lo, hi = np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 0], b[:, 0])
+    on = (lo <= x) & (x <= hi) & (hi > lo)
+    t = (x - a[on, 0]) / (b[on, 0] - a[on, 0])
+    return a[on, 1] + t * (b[on, 1] - a[on, 1])
+
+
+def top_point(structure: Structure, x: float):
+    """(block, y) of the topmost body surface at abscissa x, if it belongs to a movable
+    block; None if nothing is there or a support is on top."""
+    best, owner = -np.inf, None
+    for body, poly in structure.polygons.items():
+        ys = _crossings(poly, x)
+        if ys.size and ys.max() > best:
+            best, owner = float(ys.max()), body
+    if owner is None or owner not in structure.block_index():
+        return None
+    return owner, best
+
+
+def top_positions(structure: Structure) -> list:
+    """The midpoints (abscissas) of the upward-facing edges of the movable blocks that are
+    the top of the structure there: where a rolling load stands by default."""
+    xs = []
+    size = structure.size()
+    for b in structure.blocks:
+        v = structure.polygons.get(b)
+        if v is None:
+            continue
+        e = np.roll(v, -1, axis=0) - v
+        up = -e[:, 0] > 1e-9 * size          # outward normal (e_y, -e_x) of a CCW polygon has n_y > 0
+        for m in (v[up] + 0.5 * e[up]):
+            top = top_point(structure, m[0])
+            if top is not None and top[0] == b and abs(top[1] - m[1]) <= 1e-9 * size:
+                xs.append(float(f"{m[0]:.12g}"))  # no -3e-16 for a crown at 0
+    xs = sorted(xs)
+    return [x for i, x in enumerate(xs) if i == 0 or x - xs[i - 1] > 1e-9 * size]
+
+
+def rolling_positions(structure: Structure) -> list:
+    """The lead axle positions of the structure's rolling load (given or automatic)."""
+    r = structure.rolling
+    if r.positions is not None:
+        return [float(x) for x in r.positions]
+    return top_positions(structure)
+
+
+def unit_label(structure: Structure, kind: str) -> str:
+    """' [m]' for kind 'length' when the input gave units, else ''."""
+    u = structure.units.get(kind)
+    return f" [{u}]" if u else ""

@@ -1,0 +1,228 @@
+"""The mechanism in words, and the joint marks the picture draws from the same list.
+
+From a mechanism u and the contact modes (:mod:`.modes`):
+
+* the blocks that move, grouped into rigid **macro-blocks** (moving blocks joined by a
+  closed joint move as one body), each with its motion (a rotation about a centre, or a
+  translation);
+* each **hinge**: the joint (``block_a|block_b``), the end it turns about (the intrados or
+  extrados of an arch's radial joint, else the left/right or bottom/top end) and the
+  sense of the relative rotation;
+* each **sliding** joint and the direction of the slip.
+
+Joints are numbered 1, 2, ... in contact order; the picture (:mod:`.plot`) writes the same
+numbers next to its marks, because both take them from :func:`joint_marks`.
+
+For an arch (joints whose lines meet at one centre) :func:`thrust_line` gives the centre of
+pressure of every ring joint, at eccentricity ``e = -M/N`` along t from the contact centre
+(N n + V t at c + e t has the moment -e N = M about c); ``|e| <= d`` is eq. (4)'s
+eccentricity row, so a statically admissible state keeps it inside the ring.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..structure import Structure
+from .modes import RTOL
+
+_DIRECTIONS = ("right", "up and right", "up", "up and left", "left", "down and left", "down", "down and right")
+
+
+@dataclass
+class JointMark:
+    """A hinge or a sliding joint as named in the words and marked in the picture."""
+
+    number: int        # the joint's number (words and picture)
+    contact: str
+    kind: str          # "hinge" or "sliding"
+    point: np.ndarray  # hinge: the pivot (end of the joint); sliding: the contact centre
+    vector: np.ndarray  # hinge: (relative rotation of b, 0); sliding: slip of b relative to a
+    text: str
+
+
+def direction(v) -> str:
+    """A direction in words (8 compass sectors): 'right', 'up and left', ..."""
+    angle = np.degrees(np.arctan2(v[1], v[0])) % 360.0
+    return _DIRECTIONS[int(((angle + 22.5) % 360.0) // 45.0)]
+
+
+def ring_centre(structure: Structure, sample: int = 200):
+    """The common point of the joint lines of an arch (its centre), or None.
+
+    The median of the pairwise intersections of the joint lines; it is a centre when at
+    least three joints in at least three directions pass through it (a wall's joints
+    have two directions only)."""
+    s = structure
+    if s.n_contacts < 3:
+        return None
+    k = np.linspace(0, s.n_contacts - 1, min(sample, s.n_contacts)).astype(int)
+    c, t = s.centre[k], s.tangent[k]
+    i, j = np.triu_indices(k.size, 1)
+    cross = t[i, 0] * t[j, 1] - t[i, 1] * t[j, 0]
+    ok = np.abs(cross) > 0.05
+    if not ok.any():
+        return None
+    i, j, cross = i[ok], j[ok], cross[ok]
+    w = c[j] - c[i]
+    lam = (w[:, 0] * t[j, 1] - w[:, 1] * t[j, 0]) / cross
+    centre = np.median(c[i] + lam[:, None] * t[i], axis=0)
+    radial = radial_joints(s, centre)
+    angles = np.unique(np.round(np.degrees(np.arctan2(s.tangent[radial, 1], s.tangent[radial, 0])) % 180.0))
+    return centre if radial.size >= 3 and angles.size >= 3 else None
+
+
+def radial_joints(structure: Structure, centre) -> np.ndarray:
+    """Indices of the joints whose line passes through ``centre`` (within 1e-6 of the size)."""
+    r = np.asarray(centre) - structure.centre
+    t = structure.tangent
+    dist = np.abs(r[:, 0] * t[:, 1] - r[:, 1] * t[:, 0])
+    return np.flatnonzero(dist <= 1e-6 * structure.size())
+
+
+def _end_name(structure, k, sign, centre, radial) -> str:
+    """Which end of joint k is ``centre + sign d t``: intrados/extrados, else by position."""
+    s = structure
+    end, other = s.centre[k] + sign * s.d[k] * s.tangent[k], s.centre[k] - sign * s.d[k] * s.tangent[k]
+    if centre is not None and k in radial:
+        return "intrados" if np.hypot(*(end - centre)) < np.hypot(*(other - centre)) else "extrados"
+    t = s.tangent[k]
+    if abs(t[0]) >= abs(t[1]):
+        return "right end" if end[0] > other[0] else "left end"
+    return "top" if end[1] > other[1] else "bottom"
+
+
+def joint_name(structure: Structure, k: int) -> str:
+    return f"joint {structure.block_a[k]}|{structure.block_b[k]} ({structure.contacts[k]})"
+
+
+def _sense(theta) -> str:
+    return "counter-clockwise" if theta > 0 else "clockwise"
+
+
+def joint_marks(structure: Structure, u, modes) -> list:
+    """Hinges and sliding joints of the mechanism, numbered in contact order."""
+    from .plot import contact_kinematics
+    s = structure
+    u = np.asarray(u, dtype=float).reshape(-1, 3)
+    _, slip, th, gaps = contact_kinematics(s, u)
+    centre = ring_centre(s)
+    radial = radial_joints(s, centre) if centre is not None else np.array([], dtype=int)
+    marks, number = [], 0
+    for k, mode in enumerate(modes):
+        if mode not in ("hinging", "sliding", "sliding+hinging"):
+            continue
+        number += 1
+        a, b = s.block_a[k], s.block_b[k]
+        relative = "about it" if a in s.supports else f"relative to {a}"
+        if "hinging" in mode:
+            # the pivot: the end that moves less (as the picture's pivots); ties by the sense
+            tie = np.isclose(gaps[k, 0], gaps[k, 1], rtol=1e-9, atol=0)
+            sign = (1.0 if th[k] > 0 else -1.0) if tie else (1.0 if gaps[k, 1] < gaps[k, 0] else -1.0)
+            where = _end_name(s, k, sign, centre, radial)
+            text = f"hinge at the {where} of {joint_name(s, k)}"
+            if th[k] != 0:
+                text += f": {b} turns {_sense(th[k])} {relative}"
+            marks.append(JointMark(number, s.contacts[k], "hinge", s.centre[k] + sign * s.d[k] * s.tangent[k],
+                                   np.array([th[k], 0.0]), text))
+        if "sliding" in mode:
+            v = slip[k] * s.tangent[k]
+            text = f"sliding at {joint_name(s, k)}"
+            if np.any(v):
+                text += f": {b} slides {direction(v)} " + ("on it" if a in s.supports else f"relative to {a}")
+            marks.append(JointMark(number, s.contacts[k], "sliding", s.centre[k].copy(), v, text))
+    return marks
+
+
+def moving_blocks(structure: Structure, u, rtol: float = RTOL) -> np.ndarray:
+    """Boolean per block: does it move (a vertex or the centroid moves more than rtol of
+    the largest motion)?"""
+    from .plot import displace
+    s = structure
+    u = np.asarray(u, dtype=float).reshape(-1, 3)
+    mag = np.hypot(u[:, 0], u[:, 1])
+    for j, b in enumerate(s.blocks):
+        if b in s.polygons:
+            m = displace(s.polygons[b], s.centroid[j], u[j])
+            mag[j] = max(mag[j], np.hypot(m[:, 0], m[:, 1]).max())
+    top = mag.max(initial=0.0)
+    return mag > rtol * top if top > 0 else np.zeros(s.n_blocks, dtype=bool)
+
+
+def macro_blocks(structure: Structure, u, modes) -> list:
+    """Groups (lists of block indices) of moving blocks joined by closed joints."""
+    s = structure
+    moving = moving_blocks(s, u)
+    parent = list(range(s.n_blocks))
+
+    def root(j):
+        while parent[j] != j:
+            parent[j] = parent[parent[j]]
+            j = parent[j]
+        return j
+
+    ia, ib = s.contact_blocks()
+    for a, b, mode in zip(ia, ib, modes):
+        if a >= 0 and b >= 0 and mode == "closed" and moving[a] and moving[b]:
+            parent[root(a)] = root(b)
+    groups = {}
+    for j in np.flatnonzero(moving):
+        groups.setdefault(root(j), []).append(int(j))
+    return sorted(groups.values(), key=lambda g: g[0])
+
+
+def _fmt_point(p, unit) -> str:
+    return f"({p[0]:.3g}, {p[1]:.3g}){unit}"
+
+
+def describe(structure: Structure, u, modes, alpha=None) -> list:
+    """The mechanism in words: a list of lines (macro-blocks, then numbered joints)."""
+    s = structure
+    u = np.asarray(u, dtype=float).reshape(-1, 3)
+    unit = f" {s.units['length']}" if s.units.get("length") else ""
+    if not np.isfinite(u).all() or not np.any(u):
+        return ["No mechanism (no certified collapse state)."]
+    groups = macro_blocks(s, u, modes)
+    n_moving = sum(len(g) for g in groups)
+    head = "Mechanism" + (f" at alpha = {alpha:.6g}" if alpha is not None and np.isfinite(alpha) else "")
+    lines = [f"{head}: {n_moving} of {s.n_blocks} blocks move as {len(groups)} rigid macro-block"
+             f"{'s' if len(groups) != 1 else ''}; {s.n_blocks - n_moving} stay at rest."]
+    scale = np.abs(u[:, :2]).max(initial=0.0) + np.abs(u[:, 2]).max(initial=0.0) * s.size()
+    for n, g in enumerate(groups, start=1):
+        j = g[0]
+        ux, uy, th = u[j]
+        names = ", ".join(s.blocks[i] for i in g[:12]) + (f", ... ({len(g)} blocks)" if len(g) > 12 else "")
+        if abs(th) * s.size() > 1e-6 * scale:
+            # instantaneous centre: where (ux - th (y - yG), uy + th (x - xG)) vanishes
+            centre = s.centroid[j] + np.array([-uy / th, ux / th])
+            motion = f"turns {_sense(th)} about {_fmt_point(centre, unit)}"
+        else:
+            motion = f"translates {direction((ux, uy))}"
+        lines.append(f"  macro-block {n} [{names}] {motion}")
+    marks = joint_marks(s, u, modes)
+    if marks:
+        lines.append("Joints (numbered as in the picture):")
+        lines += [f"  {m.number}. {m.text}" for m in marks]
+    n_open = sum(m == "open" for m in modes)
+    if n_open:
+        lines.append(f"  {n_open} joint{'s' if n_open != 1 else ''} open (separate).")
+    return lines
+
+
+def thrust_line(structure: Structure, N, M, rtol: float = 1e-9):
+    """(points (k, 2), eccentricity ratios |e|/d (k,), joint indices) of the centres of
+    pressure of an arch's ring joints, ordered around the ring; None if not an arch.
+    Joints carrying no compression (N ~ 0) have no centre of pressure and are left out."""
+    s = structure
+    centre = ring_centre(s)
+    if centre is None:
+        return None
+    N, M = np.asarray(N, dtype=float), np.asarray(M, dtype=float)
+    k = radial_joints(s, centre)
+    k = k[-N[k] > rtol * max(1.0, np.abs(N).max(initial=0.0))]
+    e = -M[k] / N[k]
+    points = s.centre[k] + e[:, None] * s.tangent[k]
+    r = s.centre[k] - centre
+    order = np.argsort(-np.arctan2(r[:, 1], r[:, 0]))  # from the left springing over to the right
+    return points[order], (np.abs(e) / s.d[k])[order], k[order]

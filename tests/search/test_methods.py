@@ -1,0 +1,126 @@
+"""Methods side by side (lamodel.search.methods): closed-form answers, raw vs certified,
+and `lamodel solve --method`."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import INSTANCES, ROOT, rect, stack_spec
+from oracle import check_folder, check_state
+from lamodel.io.datfile import read_dat
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.output.methods import METHOD_COLUMNS, method_results, methods_frame
+from lamodel.search.methods import METHODS, run_method, run_methods
+from lamodel.search.options import SolveOptions
+
+FAST = SolveOptions(starts=1, workers=1, pop_size=4, generations=2)
+SEED_BUDGET = (2, 1)  # two Ipopt solves for the seed's GA
+
+
+def block(b, h, mu):
+    """One b x h block on the ground, horizontal live load equal to its weight."""
+    return structure_from_json({"name": "block", "mu": mu, "live_load": [1.0, 0.0], "blocks": [
+        {"id": "ground", "vertices": rect(-2 * b, -1, 2 * b, 0), "support": True},
+        {"id": "b1", "vertices": rect(-b / 2, 0, b / 2, h)}]})
+
+
+# (structure, closed form). A block overturns about its toe when W b/2 = alpha W h/2, i.e.
+# alpha = b/h, and slides when alpha W = mu W: alpha_c = min(mu, b/h). Two equal w x h
+# blocks: the whole stack overturns at alpha (2W) h = (2W) w/2, alpha = w/(2h); the top
+# one alone at w/h; either joint slides at alpha = mu (the base carries 2 alpha W against
+# mu 2W): alpha_c = min(mu, w/(2h)).
+CASES = {
+    "block overturning": (lambda: block(1.0, 2.0, 0.6), 0.5),
+    "block sliding": (lambda: block(1.0, 2.0, 0.3), 0.3),
+    "stack overturning": (lambda: structure_from_json(stack_spec(2, mu=0.6)), 0.5),
+    "stack sliding": (lambda: structure_from_json(stack_spec(2, mu=0.4)), 0.4),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_every_method_agrees_with_the_closed_form(case, tmp_path):
+    make, expected = CASES[case]
+    s = make()
+    results = run_methods("all", s, FAST, SEED_BUDGET)
+    assert [r.method for r in results] == list(METHODS)
+    for r in results:
+        assert r.certified, (r.method, r.notes)
+        assert r.alpha_certified == pytest.approx(expected, abs=1e-7), r.method
+        assert r.alpha_raw == pytest.approx(expected, abs=1e-5), r.method
+        check_state(s, r.state)                            # the oracle, from plain numbers
+        folder = tmp_path / r.method
+        method_results(r).write(folder)
+        assert check_folder(folder) == pytest.approx(expected, abs=1e-7)
+        assert pd.read_csv(folder / "summary.csv")["method"][0] == r.method
+    frame = methods_frame(results)
+    assert np.allclose(frame["gap_to_best"], 0.0, atol=1e-7)
+
+
+def test_a_raw_answer_is_reported_as_it_is(wall33):
+    # the associative LP's flow is dilatant: not a mechanism of the frictional wall, and its
+    # alpha is an upper bound above the certified one; both are reported, neither replaced
+    r = run_method("associative", wall33)
+    assert r.alpha_raw > r.alpha_certified + 1e-3
+    assert "not a collapse state" in r.notes
+    check_state(wall33, r.state)
+    # the successive LP's converged state is a collapse state (the seed's second theorem)
+    r = run_method("successive-lp", wall33)
+    assert r.raw_residual < 1e-7 and "converged" in r.notes
+    assert r.alpha_raw >= r.alpha_certified - 1e-9
+
+
+def test_an_answer_that_certifies_nothing_stays_uncertified(tmp_path):
+    # wall55: the associative LP's active rows hold no collapse state (measured)
+    s = read_dat(INSTANCES / "wall55.dat")
+    r = run_method("associative", s)
+    assert np.isfinite(r.alpha_raw) and not r.certified and np.isnan(r.alpha_certified)
+    assert "not certified" in r.notes
+    res = method_results(r)
+    res.write(tmp_path)
+    summary = pd.read_csv(tmp_path / "summary.csv")
+    assert not bool(summary.certified[0]) and np.isnan(summary.alpha[0])
+    assert summary["method"][0] == "associative"
+
+
+def lamodel_cli(*args, timeout=600):
+    return subprocess.run([sys.executable, "-m", "lamodel.cli", *map(str, args)], capture_output=True, text=True,
+                          cwd=ROOT, timeout=timeout, env=dict(os.environ, PYTHONPATH=str(ROOT)))
+
+
+def test_method_all_on_wall33_writes_methods_csv(tmp_path):
+    out = tmp_path / "w33"
+    res = lamodel_cli("solve", INSTANCES / "wall33.dat", "--method", "all", "--out", out, "--starts", 1,
+                      "--workers", 1, "--pop-size", 2, "--generations", 1, "--no-plot", "--quiet")
+    assert res.returncode == 0, res.stderr
+    table = pd.read_csv(out / "methods.csv")
+    assert list(table.columns) == list(METHOD_COLUMNS)
+    assert list(table.method) == list(METHODS)
+    assert table.certified.all()
+    assert (table.gap_to_best >= -1e-12).all() and table.gap_to_best.min() == 0.0
+    assert table.alpha_certified.min() == pytest.approx(0.638982, abs=1e-6)   # Ferris & Tin-Loi's 0.63898
+    assoc = table.set_index("method").loc["associative"]
+    assert assoc.alpha_raw == pytest.approx(0.642859, abs=1e-6) and assoc.alpha_raw > assoc.alpha_certified
+    # the folder holds the best method's certified state, which an external check accepts
+    assert check_folder(out) == pytest.approx(table.alpha_certified.min(), abs=1e-9)
+    assert pd.read_csv(out / "summary.csv")["method"][0] in METHODS
+
+
+def test_single_method_from_the_command_line(tmp_path):
+    spec = tmp_path / "stack.json"
+    import json
+    spec.write_text(json.dumps(stack_spec(2, mu=0.6)))
+    res = lamodel_cli("solve", spec, "--method", "successive-lp", "--out", tmp_path / "r", "--no-plot", "--quiet")
+    assert res.returncode == 0, res.stderr
+    summary = pd.read_csv(tmp_path / "r" / "summary.csv")
+    assert summary["method"][0] == "successive-lp"
+    assert check_folder(tmp_path / "r") == pytest.approx(0.5, abs=1e-9)
+    assert not (tmp_path / "r" / "methods.csv").exists()
+
+
+def test_unknown_method_is_one_line_exit_2():
+    res = lamodel_cli("solve", INSTANCES / "wall33.dat", "--method", "simplex")
+    assert res.returncode == 2
+    assert len(res.stderr.strip().splitlines()) == 1 and "--method" in res.stderr
