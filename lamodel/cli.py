@@ -175,6 +175,7 @@ def _solve(args, prog) -> int:
                 outcome, extra = solve(structure, options), {}
             results = outcome_results(outcome, dict(extra, method="lamodel"))
         dead_u = _explain_unstable(outcome)
+        results.summary["message"] = outcome.message  # with the blocks that move under dead load, if unstable
         # everything that belongs to the result folder is written into the staging folder,
         # then swapped in as a whole
         inside = picture is not None and picture.parent == stage.final
