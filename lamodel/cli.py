@@ -156,17 +156,19 @@ def _solve(args, prog) -> int:
                            generations=args.generations or SolveOptions.generations,
                            solver=args.solver, progress=not args.quiet)
     structure = _with_rolling_option(structure, args)
+    if args.method != "lamodel" and (structure.cases or structure.rolling is not None):
+        raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")
     # every output place is checked before the solve (InputError: one line, exit 2)
-    _check_outputs(args)
     out = Path(args.out) if args.out else Path("results") / safe_folder_name(structure.name)
     picture = None if args.no_plot else _picture_place(args.plot, out)
+    _check_outputs(args, out)
     stage = ResultFolder(out, foreign_files).open()
+
+    def beside(path):  # a file named inside the result folder is part of it
+        return path is not None and Path(os.path.realpath(Path(path).parent)) == stage.final
     try:
         study, methods = None, None
         if args.method != "lamodel":
-            if structure.cases or structure.rolling is not None:
-                raise InputError("--method other than lamodel takes one live load; expected no load cases or "
-                                 "rolling load")
             outcome, results, methods = _solve_methods(args, structure, options)
         else:
             if structure.cases or structure.rolling is not None:
@@ -176,17 +178,20 @@ def _solve(args, prog) -> int:
             results = outcome_results(outcome, dict(extra, method="lamodel"))
         dead_u = _explain_unstable(outcome)
         results.summary["message"] = outcome.message  # with the blocks that move under dead load, if unstable
+        words = _words(outcome, results, dead_u)
         # everything that belongs to the result folder is written into the staging folder,
-        # then swapped in as a whole
-        inside = picture is not None and picture.parent == stage.final
-        if inside:
-            _draw(outcome.structure, outcome, results, stage.path / picture.name, dead_u)
-        results.summary["picture"] = picture.name if inside else str(picture or "")
+        # then swapped in as a whole; its files are named in summary.csv (so a later run
+        # knows them as lamodel's)
+        extras = {"picture": picture, "report": args.report, "animation": args.animate}
+        for column, path in extras.items():
+            results.summary[column] = Path(path).name if beside(path) else str(path or "")
         results.write_into(stage.path)
         if study is not None:
             study = _write_study(study, stage.path, structure)
         if methods is not None:
             _write_methods(methods, stage.path, out, structure)
+        _write_extras(args, prog, outcome, results, words, study, dead_u,
+                      {k: stage.path / Path(p).name for k, p in extras.items() if beside(p)})
         try:
             stage.commit()
         except OSError as exc:
@@ -194,9 +199,9 @@ def _solve(args, prog) -> int:
             return 1
     finally:
         stage.discard()
-    words = _words(outcome, results, dead_u)
-    if picture is not None and not inside:
-        _draw(outcome.structure, outcome, results, picture, dead_u)
+    outside = {k: Path(p) for k, p in extras.items() if p is not None and not beside(p)}
+    _write_extras(args, prog, outcome, results, words, study, dead_u, outside)
+    shown = {k: out / Path(p).name if beside(p) else p for k, p in extras.items() if p is not None}
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
             print(results.to_text())
@@ -205,17 +210,9 @@ def _solve(args, prog) -> int:
                 print(study["table"].to_string(index=False, float_format=lambda v: f"{v:.6g}"))
         print()
         print("\n".join(words))
-        shown = out / picture.name if inside else picture
-        print(f"results written to {out}/" + (f", picture {shown}" if picture else ""))
-    if args.animate:
-        _animate(outcome, results, args.animate, dead_u)
-    if args.report:
-        from .output.html import write_report
-        write_report(args.report, outcome.structure, results, words,
-                     _picture_svg(outcome, results, dead_u), " ".join([prog.split()[0], *sys.argv[1:]]), args.instance,
-                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
-        if not args.quiet:
-            print(f"report written to {args.report}")
+        print(f"results written to {out}/" + (f", picture {shown['picture']}" if picture else ""))
+        if args.report:
+            print(f"report written to {shown['report']}")
     if outcome.certified:
         print(f"{structure.name}: alpha = {max(results.alpha, 0.0):.6f} (certified collapse state; associative "
               f"bound {results.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
@@ -224,6 +221,20 @@ def _solve(args, prog) -> int:
     if outcome.status == "interrupted":
         return EXIT_INTERRUPTED
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
+
+
+def _write_extras(args, prog, outcome, results, words, study, dead_u, paths):
+    """The picture, the animation and the HTML report, each to its path in ``paths``
+    (keys picture, animation, report; a missing key: not in this phase)."""
+    if "picture" in paths:
+        _draw(outcome.structure, outcome, results, paths["picture"], dead_u)
+    if "animation" in paths:
+        _animate(outcome, results, paths["animation"], dead_u)
+    if "report" in paths:
+        from .output.html import write_report
+        write_report(paths["report"], outcome.structure, results, words,
+                     _picture_svg(outcome, results, dead_u), " ".join([prog.split()[0], *sys.argv[1:]]), args.instance,
+                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
 
 
 def _picture_place(plot, out) -> Path:
@@ -357,7 +368,9 @@ def _explain_unstable(outcome):
     return u
 
 
-def _check_outputs(args):
+def _check_outputs(args, out):
+    """--report and --animate: the right suffix, and a writable folder (or the result folder,
+    which holds them then)."""
     from .errors import InputError
     from .io.files import check_writable_folder
     for option, path, suffixes in (("--report", args.report, (".html", ".htm")), ("--animate", args.animate, (".gif",))):
@@ -368,7 +381,8 @@ def _check_outputs(args):
             raise InputError(f"{path}: {option} writes a {suffixes[0]} file; expected a file name ending in {suffixes[0]}")
         if p.is_dir():
             raise InputError(f"{path}: is a folder; expected a file name for {option}")
-        check_writable_folder(p.parent, f"{option} {path}")
+        if os.path.realpath(p.parent) != os.path.realpath(out):
+            check_writable_folder(p.parent, f"{option} {path}")
 
 
 def _with_rolling_option(structure, args):

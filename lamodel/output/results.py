@@ -281,35 +281,39 @@ def _write_table(path: Path, df: pd.DataFrame):
         os.fsync(fh.fileno())
 
 
-#: The files of a result folder (the picture's name is recorded in summary.csv's
-#: ``picture`` column by the command line; ``mechanism.*`` is its default name).
+#: The files of a result folder. The picture, the HTML report and the animation, when
+#: written into it, are named in summary.csv's columns ``picture``, ``report`` and
+#: ``animation`` (by the command line); ``mechanism.*`` is the picture's default name.
 RESULT_FILES = tuple(name for name, _, _ in TABLES.values())
 #: What ``lamodel solve`` writes beside them for --method all, load cases, rolling loads.
 COMPANION_FILES = ("methods.csv", "cases.csv", "rolling.csv", "rolling.png")
 PICTURE_STEM = "mechanism"
 _PICTURE_EXTENSIONS = {"png", "svg", "svgz", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf",
                        "raw", "rgba", "gif", "avif"}  # matplotlib's formats
+_RECORDED = {"picture": _PICTURE_EXTENSIONS, "report": {"html", "htm"}, "animation": {"gif"}}
 _LEFTOVER = re.compile(r"^\.(?P<name>.+)\.[^.]+\.(tmp|bak)$")  # temporary files of older lamodel versions
 
 
-def _recorded_picture(folder: Path) -> str:
-    """The picture file named in the folder's summary.csv, if it is a picture beside it."""
+def _recorded_files(folder: Path) -> set:
+    """The files beside the tables that the folder's summary.csv names as written there."""
     try:
         with open(folder / "summary.csv", newline="", encoding="utf-8") as fh:
             row = next(csv.DictReader(fh), None) or {}
     except (OSError, UnicodeDecodeError, csv.Error):
-        return ""
-    name = str(row.get("picture") or "")
-    if name != Path(name).name or name.rsplit(".", 1)[-1].lower() not in _PICTURE_EXTENSIONS:
-        return ""
-    return name
+        return set()
+    names = set()
+    for column, extensions in _RECORDED.items():
+        name = str(row.get(column) or "")
+        if name == Path(name).name and not name.startswith(".") and name.rsplit(".", 1)[-1].lower() in extensions:
+            names.add(name)
+    return names
 
 
 def foreign_files(folder, names) -> list:
     """The names in a result folder that lamodel did not write (they make it refuse to
     replace the folder: a user's own files are never deleted)."""
     folder = Path(folder)
-    ours = {*RESULT_FILES, *COMPANION_FILES, _recorded_picture(folder)} - {""}
+    ours = {*RESULT_FILES, *COMPANION_FILES, *_recorded_files(folder)}
 
     def owned(name):
         if name in ours or (name.startswith(PICTURE_STEM + ".")

@@ -354,6 +354,21 @@ def test_no_plot_leaves_no_stale_picture(tmp_path, stack2):
     assert Results.read(out).instance == "stack3"
 
 
+def test_files_named_inside_the_folder_are_part_of_the_set(tmp_path, stack2):
+    """A picture, report or animation written into the result folder belongs to its set:
+    the next run replaces them with the rest (none is left stale, none makes it refuse)."""
+    out = tmp_path / "out"
+    p = solve(stack2, "--out", out, *QUICK, "--quiet", "--plot", out / "fig.svg", "--report", out / "r.html",
+              "--animate", out / "m.gif")
+    assert p.returncode == 0, p.stderr
+    assert sorted(f.name for f in out.iterdir()) == ["blocks.csv", "contacts.csv", "fig.svg", "m.gif", "r.html",
+                                                     "runs.csv", "summary.csv"]
+    p = solve(stack2, "--out", out, *QUICK, "--quiet", "--report", out / "r.html")
+    assert p.returncode == 0, p.stderr
+    assert sorted(f.name for f in out.iterdir()) == ["blocks.csv", "contacts.csv", "mechanism.png", "r.html",
+                                                     "runs.csv", "summary.csv"]
+
+
 # ------------------------------------------------------------ 7. -0 and empty ids
 def test_mu_zero_reports_alpha_zero_not_minus_zero(tmp_path):
     path = write_json(tmp_path / "mu0.json", stack_spec(1, mu=0.0))
