@@ -19,6 +19,7 @@ so ``lamodel --help`` answers at once.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 from pathlib import Path
@@ -75,10 +76,13 @@ def _solve_arguments(p):
     from .search.options import SOLVERS, SolveOptions
 
     p.add_argument("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
-    p.add_argument("--out", help="result folder (default: results/<instance name>/)")
+    p.add_argument("--out", help="result folder, replaced as a whole (default: results/<instance name>/); "
+                                 "a folder holding files lamodel did not write is refused")
     p.add_argument("--seed", type=int, default=SolveOptions.seed, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts,
-                   help=f"Ipopt solves of eq. 5 (default {SolveOptions.starts}; 0: LPs only)")
+    p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts, metavar="K",
+                   help=f"at most K Ipopt solves of eq. 5, one from each of the K best distinct collapse states "
+                        f"the GA certified: fewer when it certified fewer (runs.csv has one row per solve; "
+                        f"default {SolveOptions.starts}; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
     p.add_argument("--pop-size", type=_whole(2), default=None,
@@ -92,9 +96,11 @@ def _solve_arguments(p):
                         "answer is certified like every other")
     p.add_argument("--solver", default=SolveOptions.solver, choices=SOLVERS,
                    help="Ipopt through lamodel's bridge (default) or Pyomo's interface to an ipopt executable")
-    p.add_argument("--plot", help="mechanism picture (.png, .svg or .pdf; default <out>/mechanism.png)")
+    p.add_argument("--plot", help="mechanism picture (.png, .svg, .pdf, ...; default <out>/mechanism.png, part of "
+                                  "the result folder; elsewhere, in an existing folder)")
     p.add_argument("--no-plot", action="store_true", help="draw no picture")
-    p.add_argument("--quiet", action="store_true", help="print only the one-line result")
+    p.add_argument("--quiet", action="store_true",
+                   help="print only the one-line result (warnings and errors still go to stderr)")
     _solve_study_arguments(p)
 
 
@@ -134,53 +140,68 @@ def _solve(args, prog) -> int:
 
     from .errors import InputError
     from .io import read
+    from .io.files import ResultFolder, safe_folder_name
     from .output.report import outcome_results
+    from .output.results import foreign_files
     from .search.driver import SolveOptions, solve
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         structure = read(args.instance)
-    for w in caught:  # one line each, without Python's source-line echo
-        if not args.quiet and issubclass(w.category, UserWarning):
+    for w in caught:  # always shown (--quiet too): they change the answer; one line each
+        if issubclass(w.category, UserWarning):
             print(f"{prog}: warning: {w.message}", file=sys.stderr)
-    out = Path(args.out) if args.out else Path("results") / structure.name
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a folder; expected a folder for the result files")
-    for name in ("summary.csv", "blocks.csv", "contacts.csv", "runs.csv"):
-        if (out / name).is_dir():
-            raise InputError(f"{out / name}: is a folder; expected room for the result file")
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
                            pop_size=args.pop_size or SolveOptions.pop_size,
                            generations=args.generations or SolveOptions.generations,
                            solver=args.solver, progress=not args.quiet)
     structure = _with_rolling_option(structure, args)
-    _check_outputs(args)
-    study, methods = None, None
-    if args.method != "lamodel":
-        if structure.cases or structure.rolling is not None:
-            raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")
-        outcome, results, methods = _solve_methods(args, structure, options)
-        dead_u = None
-    else:
-        if structure.cases or structure.rolling is not None:
-            study, outcome, extra = _run_study(structure, options, args)
-        else:
-            outcome, extra = solve(structure, options), {}
-        dead_u = _explain_unstable(outcome)  # names the moving blocks in the message: before the tables
-        results = outcome_results(outcome, dict(extra, method="lamodel"))
+    if args.method != "lamodel" and (structure.cases or structure.rolling is not None):
+        raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")
+    # every output place is checked before the solve (InputError: one line, exit 2)
+    out = Path(args.out) if args.out else Path("results") / safe_folder_name(structure.name)
+    picture = None if args.no_plot else _picture_place(args.plot, out)
+    _check_outputs(args, out)
+    stage = ResultFolder(out, foreign_files).open()
+
+    def beside(path):  # a file named inside the result folder is part of it
+        return path is not None and Path(os.path.realpath(Path(path).parent)) == stage.final
     try:
-        results.write(out)
-        if study is not None:  # after the result files: the folder is theirs to replace
-            study = _write_study(study, out, structure)
+        study, methods = None, None
+        if args.method != "lamodel":
+            outcome, results, methods = _solve_methods(args, structure, options)
+        else:
+            if structure.cases or structure.rolling is not None:
+                study, outcome, extra = _run_study(structure, options, args)
+            else:
+                outcome, extra = solve(structure, options), {}
+            results = outcome_results(outcome, dict(extra, method="lamodel"))
+        dead_u = _explain_unstable(outcome)
+        results.summary["message"] = outcome.message  # with the blocks that move under dead load, if unstable
+        words = _words(outcome, results, dead_u)
+        # everything that belongs to the result folder is written into the staging folder,
+        # then swapped in as a whole; its files are named in summary.csv (so a later run
+        # knows them as lamodel's)
+        extras = {"picture": picture, "report": args.report, "animation": args.animate}
+        for column, path in extras.items():
+            results.summary[column] = Path(path).name if beside(path) else str(path or "")
+        results.write_into(stage.path)
+        if study is not None:
+            study = _write_study(study, stage.path, structure)
         if methods is not None:
-            _write_methods(methods, out, structure)
-    except OSError as exc:
-        print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
-        return 1
-    words = _words(outcome, results, dead_u)
-    picture = None
-    if not args.no_plot:
-        picture = _draw(outcome.structure, outcome, results, args.plot or out / "mechanism.png", dead_u)
+            _write_methods(methods, stage.path, out, structure)
+        _write_extras(args, prog, outcome, results, words, study, dead_u,
+                      {k: stage.path / Path(p).name for k, p in extras.items() if beside(p)})
+        try:
+            stage.commit()
+        except OSError as exc:
+            print(f"{prog}: error: cannot write the results to {out}: {exc.strerror or exc}", file=sys.stderr)
+            return 1
+    finally:
+        stage.discard()
+    outside = {k: Path(p) for k, p in extras.items() if p is not None and not beside(p)}
+    _write_extras(args, prog, outcome, results, words, study, dead_u, outside)
+    shown = {k: out / Path(p).name if beside(p) else p for k, p in extras.items() if p is not None}
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
             print(results.to_text())
@@ -189,24 +210,56 @@ def _solve(args, prog) -> int:
                 print(study["table"].to_string(index=False, float_format=lambda v: f"{v:.6g}"))
         print()
         print("\n".join(words))
-        print(f"results written to {out}/" + (f", picture {picture}" if picture else ""))
-    if args.animate:
-        _animate(outcome, results, args.animate, dead_u)
-    if args.report:
-        from .output.html import write_report
-        write_report(args.report, outcome.structure, results, words,
-                     _picture_svg(outcome, results, dead_u), " ".join([prog.split()[0], *sys.argv[1:]]), args.instance,
-                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
-        if not args.quiet:
-            print(f"report written to {args.report}")
+        print(f"results written to {out}/" + (f", picture {shown['picture']}" if picture else ""))
+        if args.report:
+            print(f"report written to {shown['report']}")
     if outcome.certified:
-        print(f"{structure.name}: alpha = {max(outcome.best.alpha, 0.0):.6f} (certified collapse state; associative "
-              f"bound {outcome.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
+        print(f"{structure.name}: alpha = {max(results.alpha, 0.0):.6f} (certified collapse state; associative "
+              f"bound {results.alpha_associative:.6f}) in {outcome.wall_time_s:.1f} s")
     else:
         print(f"{structure.name}: no certified collapse multiplier: {outcome.message}")
     if outcome.status == "interrupted":
         return EXIT_INTERRUPTED
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
+
+
+def _write_extras(args, prog, outcome, results, words, study, dead_u, paths):
+    """The picture, the animation and the HTML report, each to its path in ``paths``
+    (keys picture, animation, report; a missing key: not in this phase)."""
+    if "picture" in paths:
+        _draw(outcome.structure, outcome, results, paths["picture"], dead_u)
+    if "animation" in paths:
+        _animate(outcome, results, paths["animation"], dead_u)
+    if "report" in paths:
+        from .output.html import write_report
+        write_report(paths["report"], outcome.structure, results, words,
+                     _picture_svg(outcome, results, dead_u), " ".join([prog.split()[0], *sys.argv[1:]]), args.instance,
+                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
+
+
+def _picture_place(plot, out) -> Path:
+    """Where the picture goes, checked before solving: a known format, a writable place.
+    Beside the tables (the default) it is part of the result folder; elsewhere its folder
+    must exist."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    from .errors import InputError
+    from .io.files import check_writable_folder
+
+    path = Path(plot) if plot else Path(out) / "mechanism.png"
+    ext = path.suffix.lower().lstrip(".")
+    supported = FigureCanvasBase.get_supported_filetypes()
+    if ext not in supported:
+        raise InputError(f"{path}: unknown picture format '{path.suffix}'; expected one of "
+                         f"{', '.join('.' + e for e in sorted(supported))}")
+    final_out = Path(os.path.realpath(out))
+    parent = Path(os.path.realpath(path.parent if str(path.parent) else "."))
+    if parent == final_out:
+        return final_out / path.name
+    if os.path.isdir(path):
+        raise InputError(f"{path}: is a folder; expected a picture file name")
+    check_writable_folder(path.parent, f"--plot {path}")
+    return path
 
 
 def _solve_methods(args, structure, options):
@@ -231,10 +284,10 @@ def _solve_methods(args, structure, options):
     return chosen.outcome(), method_results(chosen), frame
 
 
-def _write_methods(frame, out, structure):
-    """methods.csv beside the result files (after them: the folder is theirs to replace)."""
+def _write_methods(frame, folder, out, structure):
+    """methods.csv beside the result files (``folder``: the staging folder of ``out``)."""
     from .output.methods import methods_text, write_methods_csv
-    write_methods_csv(frame, out)
+    write_methods_csv(frame, folder)
     print(f"Methods on '{structure.name}' (each raw answer certified; the folder holds "
           f"{frame.attrs.get('chosen', 'the best')}'s state):")
     print(methods_text(frame))
@@ -242,11 +295,6 @@ def _write_methods(frame, out, structure):
 
 
 def _draw(structure, outcome, results, path, dead_u=None):
-    import os
-
-    path = Path(path)
-    if path.parent and not path.parent.exists():
-        os.makedirs(path.parent, exist_ok=True)
     from .output.plot import plot_mechanism
     return plot_mechanism(structure, path=str(path), **_picture(outcome, results, dead_u))
 
@@ -320,8 +368,11 @@ def _explain_unstable(outcome):
     return u
 
 
-def _check_outputs(args):
+def _check_outputs(args, out):
+    """--report and --animate: the right suffix, and a writable folder (or the result folder,
+    which holds them then)."""
     from .errors import InputError
+    from .io.files import check_writable_folder
     for option, path, suffixes in (("--report", args.report, (".html", ".htm")), ("--animate", args.animate, (".gif",))):
         if path is None:
             continue
@@ -330,8 +381,8 @@ def _check_outputs(args):
             raise InputError(f"{path}: {option} writes a {suffixes[0]} file; expected a file name ending in {suffixes[0]}")
         if p.is_dir():
             raise InputError(f"{path}: is a folder; expected a file name for {option}")
-        if p.parent != Path("") and not p.parent.is_dir():
-            raise InputError(f"{path}: folder {p.parent} does not exist; expected an existing folder for {option}")
+        if os.path.realpath(p.parent) != os.path.realpath(out):
+            check_writable_folder(p.parent, f"{option} {path}")
 
 
 def _with_rolling_option(structure, args):
@@ -451,8 +502,9 @@ def _build(args, prog) -> int:
 def _table1_arguments(p):
     p.add_argument("--out", default="results/table1.csv", help="CSV file (default results/table1.csv)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_whole(0), default=2,
-                   help="Ipopt solves of eq. 5 per wall (default 2; 0: LPs only)")
+    p.add_argument("--starts", type=_whole(0), default=2, metavar="K",
+                   help="at most K Ipopt solves of eq. 5 per wall, from the best distinct certified states "
+                        "(default 2; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
 
 

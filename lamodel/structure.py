@@ -125,6 +125,8 @@ class Structure:
         for kind, ids in (("block", self.blocks), ("support", self.supports), ("contact", self.contacts)):
             seen = set()
             for i in ids:
+                if not i.strip():
+                    raise InputError(f"{where}: a {kind} id is empty; expected non-empty ids")
                 if i in seen:
                     raise InputError(f"{where}: {kind} '{i}' is declared twice; expected unique ids")
                 seen.add(i)

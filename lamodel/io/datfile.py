@@ -21,16 +21,19 @@ once, contacts naming known bodies, unit normals, d > 0, mu >= 0, finite numbers
 """
 from __future__ import annotations
 
+import codecs
+import contextlib
 import math
 import os
 import re
+import tempfile
 from collections import defaultdict
 
 import numpy as np
 
 from ..errors import InputError
 from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, Structure
-from .files import atomic_write_text
+from .files import atomic_write_text, read_text
 
 
 def _schema():
@@ -169,16 +172,27 @@ def _unknown_name(path: str, text: str, name: str) -> str:
     return f"{where}: unknown parameter '{name}'; expected only the parameters {known}"
 
 
+@contextlib.contextmanager
+def _plain_copy(path, text):
+    """The file for Pyomo's parser, which reads it again itself: a UTF-8 copy without the
+    byte-order mark when the file has one (Pyomo takes the mark for a token)."""
+    with open(path, "rb") as fh:
+        if fh.read(3) != codecs.BOM_UTF8:
+            yield path
+            return
+    with tempfile.TemporaryDirectory(prefix="lamodel-dat-") as tmp:
+        copy = os.path.join(tmp, os.path.basename(path))
+        with open(copy, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        yield copy
+
+
 def read_dat(path) -> Structure:
     """Read a Pyomo .dat file into a validated Structure (InputError on anything wrong)."""
     from pyomo.environ import DataPortal
 
     path = os.fspath(path)
-    try:
-        with open(path) as fh:
-            text = fh.read()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the file ({exc.strerror}); expected a Pyomo .dat instance") from None
+    text = read_text(path, "Pyomo .dat instance")
     _scan_duplicates(path, text)
     _scan_row_widths(path, text)
     data = DataPortal(model=_schema())
@@ -186,7 +200,8 @@ def read_dat(path) -> Structure:
     if getattr(parse_datacmds, "dat_lexer", None) is not None:
         parse_datacmds.dat_lexer.lineno = 1  # Pyomo keeps counting lines from the previous file
     try:
-        data.load(filename=path, using="dat")  # by content, whatever the case of the extension
+        with _plain_copy(path, text) as plain:
+            data.load(filename=plain, using="dat")  # by content, whatever the case of the extension
     except Exception as exc:  # Pyomo's parser raises many kinds; all mean a malformed file
         msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         unknown = re.search(r"has no attribute '([^']+)'", msg)

@@ -67,6 +67,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .files import read_text
 from ..geometry.contacts import _area_centroid, _clean_polygons, find_contacts
 from ..structure import Structure
 
@@ -100,10 +101,7 @@ def _load_spec(source):
         return source, f"geometry '{source.get('name', '<dict>')}'"
     path = Path(source)
     where = str(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise InputError(f"{where}: cannot read the geometry file ({exc.strerror}); expected a readable JSON file") from None
+    text = read_text(path, "JSON geometry file")
     try:
         spec = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -160,6 +158,9 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
         if "id" not in body or isinstance(body["id"], (dict, list, bool)) or body["id"] is None:
             raise InputError(f"{where}: blocks[{pos}] has no valid 'id'; expected a string or integer id")
         bid = str(body["id"])
+        if not bid or any(c.isspace() for c in bid):  # ids are tokens of .dat files and CSV tables
+            raise InputError(f"{where}: blocks[{pos}] has the id {json.dumps(body['id'])}; expected a non-empty id "
+                             "without spaces")
         at = f"{where}: block '{bid}'"
         if bid in seen:
             raise InputError(f"{at} is declared twice (blocks[{seen[bid]}] and blocks[{pos}]); expected unique ids")

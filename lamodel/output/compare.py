@@ -11,10 +11,14 @@ A and B differ when any of the following holds:
 
 * the collapse multipliers differ: ``|alpha_B - alpha_A| > atol``;
 * ``certified`` differs;
-* the sets of contact ids or of block ids differ;
+* the structures differ: other block ids, other contact ids, a contact joining other
+  bodies, or another number of blocks or contacts in the summaries (then the row
+  ``structure`` says "different structures" and contacts and blocks are not matched:
+  their forces and motions would not be comparable);
 * a contact (matched by contact id) changed its mode;
 * a contact force differs, matched by contact id:
-  ``max |N_B - N_A|`` (likewise V, M) ``> atol * max(1, max |N| of A)`` — the forces are
+  ``max |N_B - N_A|`` (likewise V, M) ``> atol * max(1, max |N| of A)`` (the row
+  ``max |dN|`` shows that difference; its A and B are N at the contact where it is largest) — the forces are
   measured against the largest normal force of A, so the test is relative for heavy
   structures and absolute for light ones;
 * a block displacement differs, matched by block id:
@@ -78,7 +82,7 @@ def _matched_rows(a: pd.DataFrame, b: pd.DataFrame, key: str, columns, tol: floa
         i = int(np.argmax(d))
         worst = common.iloc[i]
         rows[label] = dict(A=worst[f"{c}_A"], B=worst[f"{c}_B"], difference=float(d[i]), tolerance=tol,
-                           differs=bool(d[i] > tol), detail=f"at {kind} {worst[key]}")
+                           differs=bool(d[i] > tol), detail=f"{c} at {kind} {worst[key]}")
 
 
 def _id_sets(a: pd.DataFrame, b: pd.DataFrame, key: str, kind: str, rows: dict):
@@ -92,6 +96,23 @@ def _id_sets(a: pd.DataFrame, b: pd.DataFrame, key: str, kind: str, rows: dict):
         parts.append(f"only in B: {_ids(only_b)}")
     rows[f"{kind}s"] = dict(A=len(ia), B=len(ib), difference=len(only_a) + len(only_b), tolerance="",
                             differs=bool(parts), detail="; ".join(parts) if parts else f"same {kind} ids")
+
+
+def _different_structures(a: Results, b: Results) -> str:
+    """Why A and B are not results of one structure ("" when they are)."""
+    counts = [f"{int(a.summary[c].iloc[0])} vs {int(b.summary[c].iloc[0])} {kind}"
+              for c, kind in (("n_blocks", "blocks"), ("n_contacts", "contacts"))
+              if int(a.summary[c].iloc[0]) != int(b.summary[c].iloc[0])]
+    if counts:
+        return ", ".join(counts)
+    ids = [f"other {key} ids" for table, key in (("blocks", "block"), ("contacts", "contact"))
+           if set(getattr(a, table)[key]) != set(getattr(b, table)[key])]
+    if ids:
+        return ", ".join(ids)
+    ends = a.contacts[["contact", "block_a", "block_b"]].merge(
+        b.contacts[["contact", "block_a", "block_b"]], on="contact", suffixes=("_A", "_B"))
+    moved = ends[(ends.block_a_A != ends.block_a_B) | (ends.block_b_A != ends.block_b_B)]
+    return f"contact {moved.contact.iloc[0]} joins other bodies" if len(moved) else ""
 
 
 def compare_results(a: Results, b: Results, atol: float = DEFAULT_ATOL):
@@ -110,6 +131,11 @@ def compare_results(a: Results, b: Results, atol: float = DEFAULT_ATOL):
     rows["instance"] = dict(A=a.instance, B=b.instance, difference="", tolerance="", differs=False,
                             detail="same instance" if a.instance == b.instance else "different names (not counted)")
     d_alpha = float(_abs_diff([a.alpha], [b.alpha])[0])
+    different = _different_structures(a, b)
+    rows["structure"] = dict(A=f"{len(a.blocks)} blocks, {len(a.contacts)} contacts",
+                             B=f"{len(b.blocks)} blocks, {len(b.contacts)} contacts", difference="", tolerance="",
+                             differs=bool(different),
+                             detail=f"different structures: {different}" if different else "same structure")
     rows["alpha"] = dict(A=a.alpha, B=b.alpha, difference=b.alpha - a.alpha if math.isfinite(d_alpha) else d_alpha,
                          tolerance=atol, differs=bool(d_alpha > atol), detail="B - A")
     rows["certified"] = dict(A=a.certified, B=b.certified, difference="", tolerance="",
@@ -121,12 +147,15 @@ def compare_results(a: Results, b: Results, atol: float = DEFAULT_ATOL):
     _id_sets(a.blocks, b.blocks, "block", "block", rows)
     _id_sets(a.contacts, b.contacts, "contact", "contact", rows)
 
+    if different:  # contacts and blocks of two structures are not matched by their ids
+        table = pd.DataFrame.from_dict(rows, orient="index")[TABLE_COLUMNS].astype(object)
+        return table, True
     modes = a.contacts[["contact", "mode"]].merge(b.contacts[["contact", "mode"]], on="contact",
                                                    suffixes=("_A", "_B"), sort=False)
     changed = modes[modes["mode_A"] != modes["mode_B"]]
     rows["mode changes"] = dict(
         A="", B="", difference=len(changed), tolerance=0, differs=len(changed) > 0,
-        detail=_ids(f"{r.contact} ({r.mode_A} -> {r.mode_B})" for r in changed.itertuples())
+        detail=_ids((f"{r.contact} ({r.mode_A} -> {r.mode_B})" for r in changed.itertuples()), limit=3)
         if len(changed) else f"none among {len(modes)} common contacts")
 
     force_tol = atol * _scale(a.contacts["N"].to_numpy())
@@ -140,10 +169,17 @@ def compare_results(a: Results, b: Results, atol: float = DEFAULT_ATOL):
 
 def print_comparison(table: pd.DataFrame, differ: bool, a, b, atol: float) -> int:
     """Print the table and the verdict; returns the exit status (0 agree, 1 differ)."""
-    with pd.option_context("display.max_colwidth", 200, "display.width", 250,
-                           "display.float_format", lambda v: f"{v:.10g}"):
-        print(f"A: {a}\nB: {b}\n")
-        print(table.to_string())
+    width = int(table["detail"].astype(str).str.len().max()) if len(table) else 0
+    with pd.option_context("display.width", 250, "display.float_format", lambda v: f"{v:.10g}"):
+        text = table.to_string(formatters={"detail": lambda v: f"{v:<{width}}"})  # left-aligned
+    print(f"A: {a}\nB: {b}\n")
+    print("\n".join(line.rstrip() for line in text.splitlines()))
+    if any(str(i).startswith("max |d") for i in table.index):
+        print("(max |dX|: difference = the largest |B - A| of X; A and B = X where it is largest)")
+    if "structure" in table.index and bool(table.loc["structure", "differs"]):
+        why = str(table.loc["structure", "detail"]).split(": ", 1)[-1]
+        print(f"\nA and B are different structures ({why}): their contacts and blocks are not compared")
+        return 1
     bad = list(table.index[table["differs"].astype(bool)])
     if differ:
         print(f"\nA and B differ (atol={atol:g}): {', '.join(bad)}")

@@ -211,7 +211,7 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     if title is None:
         title = s.name
         if alpha is not None:
-            title += f":  α = {alpha:.5g}"
+            title += f":  α = {alpha + 0.0:.5g}"  # + 0.0: -0.0 (mu = 0) is drawn as 0
             if certified is not None:
                 title += " (certified)" if certified else " (NOT certified)"
     ax.set_title(title)

@@ -40,11 +40,13 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
     runs = pd.DataFrame([asdict(r) for r in outcome.runs],
                         columns=["start", "source", "alpha_ipopt", "status", "alpha_certified", "iterations",
                                  "seconds"])
+    # + 0.0 turns -0.0 (a structure with mu = 0) into 0: a multiplier has no signed zero
+    runs[["alpha_ipopt", "alpha_certified"]] = runs[["alpha_ipopt", "alpha_certified"]].astype(float) + 0.0
     summary = {
         "instance": s.name,
-        "alpha": best.alpha if best is not None else np.nan,
+        "alpha": best.alpha + 0.0 if best is not None else np.nan,
         "certified": best is not None,
-        "alpha_associative": outcome.alpha_associative,
+        "alpha_associative": outcome.alpha_associative + 0.0,
         "n_blocks": nb, "n_contacts": nc,
         "n_starts": len(outcome.runs),
         "n_certified": int(np.isfinite(runs["alpha_certified"].astype(float)).sum()) if len(runs) else 0,

@@ -4,7 +4,7 @@ A result folder holds (the output contract; other code and external checkers rel
 
 ``summary.csv``
     one row: instance, alpha, certified, alpha_associative, n_blocks, n_contacts, n_starts,
-    n_certified, wall_time_s — then any extra columns (seed, status, message, ...).
+    n_certified, wall_time_s — then any extra columns (seed, status, message, picture, ...).
 ``blocks.csv``
     one row per movable block: block, x, y (centroid), dead_x, dead_y, live_x, live_y,
     ux, uy, theta — the collapse mechanism, normalised so that ``sum(live . u) = 1``.
@@ -24,9 +24,10 @@ decides every value, including the contact modes.
 """
 from __future__ import annotations
 
+import csv
 import math
 import os
-import secrets
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,7 +35,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..io.files import remove_quietly
+from ..io.files import ResultFolder
 from .modes import MODES
 
 
@@ -272,19 +273,55 @@ def _read_table(path: Path) -> pd.DataFrame:
         raise InputError(f"{path}: cannot read the file ({exc.strerror or exc}); expected a readable CSV table") from None
 
 
-def _write_temp(folder: Path, name: str, df: pd.DataFrame) -> Path:
-    """Write ``df`` to a fresh hidden temporary file in ``folder``, flushed to disk."""
-    tmp = folder / f".{name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
-    fh = open(tmp, "x", newline="", encoding="utf-8")  # "x": never clobber another writer's file
+def _write_table(path: Path, df: pd.DataFrame):
+    """Write one table (into a staging folder nobody reads yet), flushed to disk."""
+    with open(path, "x", newline="", encoding="utf-8") as fh:  # "x": never clobber another writer's file
+        df.to_csv(fh, index=False, float_format=FLOAT_FORMAT, lineterminator="\n", na_rep="")
+        fh.flush()
+        os.fsync(fh.fileno())
+
+
+#: The files of a result folder. The picture, the HTML report and the animation, when
+#: written into it, are named in summary.csv's columns ``picture``, ``report`` and
+#: ``animation`` (by the command line); ``mechanism.*`` is the picture's default name.
+RESULT_FILES = tuple(name for name, _, _ in TABLES.values())
+#: What ``lamodel solve`` writes beside them for --method all, load cases, rolling loads.
+COMPANION_FILES = ("methods.csv", "cases.csv", "rolling.csv", "rolling.png")
+PICTURE_STEM = "mechanism"
+_PICTURE_EXTENSIONS = {"png", "svg", "svgz", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf",
+                       "raw", "rgba", "gif", "avif"}  # matplotlib's formats
+_RECORDED = {"picture": _PICTURE_EXTENSIONS, "report": {"html", "htm"}, "animation": {"gif"}}
+_LEFTOVER = re.compile(r"^\.(?P<name>.+)\.[^.]+\.(tmp|bak)$")  # temporary files of older lamodel versions
+
+
+def _recorded_files(folder: Path) -> set:
+    """The files beside the tables that the folder's summary.csv names as written there."""
     try:
-        with fh:
-            df.to_csv(fh, index=False, float_format=FLOAT_FORMAT, lineterminator="\n", na_rep="")
-            fh.flush()
-            os.fsync(fh.fileno())
-    except BaseException:
-        remove_quietly(tmp)
-        raise
-    return tmp
+        with open(folder / "summary.csv", newline="", encoding="utf-8") as fh:
+            row = next(csv.DictReader(fh), None) or {}
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return set()
+    names = set()
+    for column, extensions in _RECORDED.items():
+        name = str(row.get(column) or "")
+        if name == Path(name).name and not name.startswith(".") and name.rsplit(".", 1)[-1].lower() in extensions:
+            names.add(name)
+    return names
+
+
+def foreign_files(folder, names) -> list:
+    """The names in a result folder that lamodel did not write (they make it refuse to
+    replace the folder: a user's own files are never deleted)."""
+    folder = Path(folder)
+    ours = {*RESULT_FILES, *COMPANION_FILES, *_recorded_files(folder)}
+
+    def owned(name):
+        if name in ours or (name.startswith(PICTURE_STEM + ".")
+                            and name[len(PICTURE_STEM) + 1:].lower() in _PICTURE_EXTENSIONS):
+            return os.path.isfile(folder / name) or os.path.islink(folder / name)
+        m = _LEFTOVER.match(name)
+        return bool(m) and owned(m["name"])
+    return [n for n in names if not owned(n)]
 
 
 # --------------------------------------------------------------------------- the object
@@ -325,43 +362,26 @@ class Results:
                    runs=pd.DataFrame(runs))
 
     # ------------------------------------------------------------------ files
-    def write(self, folder) -> str:
-        """Write summary.csv, blocks.csv, contacts.csv and runs.csv into ``folder``.
+    def write(self, folder, also=None) -> str:
+        """Replace ``folder`` as a whole by one holding summary.csv, blocks.csv, contacts.csv,
+        runs.csv (and what ``also(staging_folder)`` writes there, e.g. the picture).
 
-        The folder is created if needed. Every file is first written in full to a temporary
-        file in the same folder, then renamed over its final name (``os.replace``), so a
-        reader sees either the old file or the whole new one, never a partial file; if
-        anything fails, the temporary files are removed and the old files are untouched.
-        summary.csv is replaced last. Should a rename fail midway, the files already replaced
-        are restored from hard-link backups, so the folder never mixes two results.
-        Returns the folder path.
+        Everything is written into a hidden sibling folder first, then swapped in
+        (:class:`lamodel.io.files.ResultFolder`): a reader sees the complete old folder or
+        the complete new one, also if the process is killed; on any failure the old folder
+        is untouched. A folder holding files lamodel did not write is refused (InputError),
+        never emptied. Returns the folder path.
         """
-        folder = Path(os.fspath(folder))
-        folder.mkdir(parents=True, exist_ok=True)
-        temps, backups, done = {}, {}, []
-        try:
-            for table, (name, _, _) in TABLES.items():
-                temps[name] = _write_temp(folder, name, getattr(self, table))
-            for name in ("blocks.csv", "contacts.csv", "runs.csv", "summary.csv"):
-                if (folder / name).is_file():
-                    backups[name] = folder / f".{name}.{os.getpid()}.{secrets.token_hex(4)}.bak"
-                    os.link(folder / name, backups[name])
-            try:
-                for name in ("blocks.csv", "contacts.csv", "runs.csv", "summary.csv"):
-                    os.replace(temps[name], folder / name)
-                    del temps[name]
-                    done.append(name)
-            except BaseException:
-                for name in done:  # put the old files back (or remove what had no old file)
-                    if name in backups:
-                        os.replace(backups.pop(name), folder / name)
-                    else:
-                        os.unlink(folder / name)
-                raise
-        finally:
-            for tmp in list(temps.values()) + list(backups.values()):
-                remove_quietly(tmp)
-        return str(folder)
+        with ResultFolder(folder, foreign_files) as stage:
+            self.write_into(stage.path)
+            if also is not None:
+                also(stage.path)
+            return stage.commit()
+
+    def write_into(self, folder):
+        """Write the four CSV files into an existing folder nobody reads yet (a staging folder)."""
+        for table, (name, _, _) in TABLES.items():
+            _write_table(Path(folder) / name, getattr(self, table))
 
     @classmethod
     def read(cls, path) -> "Results":
@@ -416,7 +436,7 @@ class Results:
     # ------------------------------------------------------------------ text
     def to_text(self) -> str:
         """A readable multi-table text: the summary (transposed), the runs, the contact modes."""
-        fmt = lambda v: f"{v:.10g}"  # noqa: E731
+        fmt = lambda v: f"{v + 0.0:.10g}"  # noqa: E731  (+ 0.0: a signed zero is shown as 0)
         row = self.summary.iloc[0]
         summary = pd.DataFrame(
             {"value": [fmt(v) if isinstance(v, (float, np.floating)) else str(v) for v in row]},

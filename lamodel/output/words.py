@@ -185,7 +185,8 @@ def describe(structure: Structure, u, modes, alpha=None) -> list:
         return ["No mechanism (no certified collapse state)."]
     groups = macro_blocks(s, u, modes)
     n_moving = sum(len(g) for g in groups)
-    head = "Mechanism" + (f" at alpha = {alpha:.6g}" if alpha is not None and np.isfinite(alpha) else "")
+    # + 0.0: a multiplier of -0.0 (mu = 0) reads "0"
+    head = "Mechanism" + (f" at alpha = {alpha + 0.0:.6g}" if alpha is not None and np.isfinite(alpha) else "")
     lines = [f"{head}: {n_moving} of {s.n_blocks} blocks move as {len(groups)} rigid macro-block"
              f"{'s' if len(groups) != 1 else ''}; {s.n_blocks - n_moving} stay at rest."]
     scale = np.abs(u[:, :2]).max(initial=0.0) + np.abs(u[:, 2]).max(initial=0.0) * s.size()

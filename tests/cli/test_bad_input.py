@@ -27,6 +27,7 @@ import pytest
 
 import lamodel.search.driver as driver_mod
 import lamodel.search.ipopt as ipopt_mod
+import lamodel.io.files as files_mod
 import lamodel.output.results as results_mod
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.io.jsonspec import structure_from_json
@@ -460,19 +461,20 @@ def test_failed_write_leaves_the_old_result_folder(tmp_path, monkeypatch, error)
     folder = tmp_path / "res"
     _results(0.5).write(folder)
     before = _snapshot(folder)
-    real = results_mod._write_temp
+    real = results_mod._write_table
     calls = []
 
-    def failing(folder_, name, df):
-        calls.append(name)
-        if len(calls) == 3:  # summary and blocks already written to temporary files
+    def failing(path, df):
+        calls.append(path)
+        if len(calls) == 3:  # summary and blocks already written to the staging folder
             raise error
-        return real(folder_, name, df)
+        return real(path, df)
 
-    monkeypatch.setattr(results_mod, "_write_temp", failing)
+    monkeypatch.setattr(results_mod, "_write_table", failing)
     with pytest.raises(type(error)):
         _results(0.25).write(folder)
     assert _snapshot(folder) == before  # the old files, byte for byte, and no temporary file left
+    assert os.listdir(tmp_path) == ["res"]  # nor a staging folder
     assert Results.read(folder).alpha == 0.5
 
 
@@ -480,20 +482,15 @@ def test_failed_rename_leaves_the_old_result_folder(tmp_path, monkeypatch):
     folder = tmp_path / "res"
     _results(0.5).write(folder)
     before = _snapshot(folder)
-    real = os.replace
-    calls = []
 
     def failing(src, dst):
-        calls.append(dst)
-        if len(calls) == 2:
-            raise OSError(5, "Input/output error")
-        return real(src, dst)
+        raise OSError(5, "Input/output error")
 
-    monkeypatch.setattr(results_mod.os, "replace", failing)
+    monkeypatch.setattr(files_mod, "_exchange", failing)  # the swap of the whole folder fails
     with pytest.raises(OSError):
         _results(0.25).write(folder)
-    monkeypatch.setattr(results_mod.os, "replace", real)
     assert _snapshot(folder) == before
+    assert os.listdir(tmp_path) == ["res"]  # no staging folder left behind
 
 
 def _die(*args, **kwargs):

@@ -93,7 +93,7 @@ def test_forces_are_scaled_by_the_largest_normal_force():
     table, differ = compare_results(a, b, 1e-5)
     assert not differ
     assert table.loc["max |dN|", "tolerance"] == pytest.approx(1e-5 * 3000.0)
-    assert table.loc["max |dN|", "detail"] == "at contact c1"
+    assert table.loc["max |dN|", "detail"] == "N at contact c1"
 
 
 def test_certified_and_contact_sets():

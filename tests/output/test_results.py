@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import lamodel.output.results as results_mod
+import lamodel.io.files as files_mod
 from lamodel.errors import InputError
 from lamodel.output.results import (BLOCK_COLUMNS, CONTACT_COLUMNS, MODES, RUN_COLUMNS, SUMMARY_COLUMNS,
                              Results)
@@ -187,14 +187,15 @@ def test_write_is_atomic_when_rename_fails(tmp_path, monkeypatch):
     folder = old.write(tmp_path / "res")
     before = {n: open(os.path.join(folder, n), "rb").read() for n in os.listdir(folder)}
 
-    def broken_replace(src, dst):
-        raise OSError("disk full")
+    def broken_swap(src, dst):
+        raise OSError(5, "disk full")
 
-    monkeypatch.setattr(results_mod.os, "replace", broken_replace)
+    monkeypatch.setattr(files_mod, "_exchange", broken_swap)  # the folder is swapped in as a whole
     with pytest.raises(OSError, match="disk full"):
         two_blocks(alpha=0.9).write(folder)
     after = {n: open(os.path.join(folder, n), "rb").read() for n in os.listdir(folder)}
-    assert after == before  # same files, same bytes, no temporary file left behind
+    assert after == before  # same files, same bytes
+    assert os.listdir(tmp_path) == ["res"]  # no staging folder left behind
     monkeypatch.undo()
     assert Results.read(folder).alpha == old.alpha
 
