@@ -19,9 +19,10 @@ once), elsewhere when the cluster has another worker; every attempt is counted a
 workers lost are recorded in :class:`TaskResult`. A task that fails every attempt is
 returned with its error, never raised: the rest of the map goes on.
 
-On Dask the retry of a task whose worker died is the scheduler's own (its
-``distributed.scheduler.allowed-failures``; clusters this module starts allow one, as
-``retries``); lamodel counts attempts from the events each task logs when it starts.
+On Dask the retry of a task whose worker died is the scheduler's own: it reruns the task
+on another worker up to its ``distributed.scheduler.allowed-failures`` times (default 3;
+set it to 1 for "retried once"), then reports KilledWorker; a task that raises is retried
+``retries`` times. lamodel counts attempts from the events each task logs when it starts.
 """
 from __future__ import annotations
 
@@ -187,7 +188,8 @@ class Executor:
     def map(self, fn: Callable, items, shared=None, prepare: Callable | None = None, seed=0,
             progress: Callable | None = None) -> list[TaskResult]:
         """``[fn(prepare(shared), item, seed_i) for each item]`` as TaskResults in task
-        order; ``progress(result)`` is called in this process as each task ends."""
+        order; ``progress(result)`` is called in this process as each task ends (on Dask
+        its attempts and lost workers are filled in when the map ends)."""
         items = list(items)
         seeds = task_seeds(seed, len(items))
         key = fingerprint((shared, prepare))
@@ -285,8 +287,7 @@ class Executor:
     def _map_dask(self, fn, items, shared, prepare, seeds, key, progress):
         from distributed import as_completed
         client, run = self.client, uuid.uuid4().hex[:12]
-        # the shared object is sent to the cluster once; each worker fetches it once
-        shared_future = client.scatter(shared, broadcast=False, hash=True)
+        shared_future = share(client, shared, key)
         futures = {}
         for i, item in enumerate(items):
             fut = client.submit(_dask_call, fn, key, shared_future, prepare, run, i, item, seeds[i],
@@ -295,24 +296,36 @@ class Executor:
         results = [TaskResult(i) for i in range(len(items))]
         for fut in as_completed(futures):
             res = results[futures[fut]]
+            res.attempts = 1  # until the events are read, below
             try:
                 res.value, res.worker, res.seconds = fut.result()
             except Exception as exc:  # KilledWorker (it died on every attempt), or raised each time
                 res.error = f"{type(exc).__name__}: {exc}"
-            self._attempts(res, run)
             self._finish(res, progress)
         del shared_future
+        self._attempts(results, run)
         return results
 
-    def _attempts(self, res, run):
-        """Attempts and lost workers from the start events the task logged."""
-        starts = [msg["worker"] for _, msg in self.client.get_events(EVENT_TOPIC)
-                  if isinstance(msg, dict) and msg.get("run") == run and msg.get("index") == res.index]
-        res.attempts = max(len(starts), 1)
-        if res.ok:
-            res.lost = starts[:-1]
-        else:
-            res.lost = starts
+    def _attempts(self, results, run):
+        """Attempts and lost workers from the start events the tasks logged (read once)."""
+        starts = {}
+        for _, msg in self.client.get_events(EVENT_TOPIC):
+            if isinstance(msg, dict) and msg.get("run") == run:
+                starts.setdefault(msg.get("index"), []).append(msg.get("worker"))
+        for res in results:
+            tried = starts.get(res.index, [])
+            res.attempts = max(len(tried), 1)
+            res.lost = tried[:-1] if res.ok else tried
+
+
+def share(client, obj, key: str):
+    """``obj`` on a Dask cluster, sent once, fetched once by each worker that needs it.
+
+    A task that returns it, not ``client.scatter``: scattered data lives only on workers,
+    so a worker dying with the only copy would leave every task that needs it waiting
+    forever; a task's result is recomputed from its spec, which the scheduler keeps.
+    """
+    return client.submit(_identity, obj, key=f"lamodel-shared-{key}", pure=True)
 
 
 def run_tasks(fn, items, shared=None, prepare=None, seed=0, workers=None, scheduler=None, retries=1,

@@ -102,11 +102,11 @@ class _DaskPool:
     seconds left (clocks of other machines differ)."""
 
     def __init__(self, structure, opt):
-        from .executor import Executor, fingerprint
+        from .executor import Executor, fingerprint, share
         self.executor = Executor(scheduler=opt.scheduler)
         client = self.executor.client
         self.key = fingerprint((structure, opt.xi_factor, opt.solver))
-        self.shared = client.scatter((structure, opt.xi_factor, opt.solver), broadcast=False, hash=True)
+        self.shared = share(client, (structure, opt.xi_factor, opt.solver), self.key)
         self.pool = client.get_executor(retries=1, pure=False)
 
     def submit(self, fn, *args):
