@@ -293,7 +293,7 @@ def run_study(study: Study, workers: int | None = None, scheduler: str | None = 
             on_row(row)
 
     own = executor is None
-    ex = executor or Executor(workers=workers, scheduler=scheduler)
+    ex = executor or Executor(workers=workers, scheduler=scheduler, preload=("lamodel.search.driver",))
     try:
         results = ex.map(solve_variant, variants, shared=study, seed=study.seed, progress=done)
     finally:
@@ -360,8 +360,10 @@ def _plot_distribution(fig, alpha, study, total):
             ax.axvline(v, color="#1f5fbf", linestyle=style, linewidth=1.0, label=f"{label} {v:.4f}")
         ax.set_xlabel(r"certified collapse multiplier $\alpha_c$")
         ax.grid(True, linewidth=0.3)
+    from matplotlib.ticker import MaxNLocator
+    ax1.yaxis.set_major_locator(MaxNLocator(integer=True))
     ax1.set_ylabel("variants")
-    ax2.set_ylabel("fraction of variants with smaller $\\alpha_c$")
+    ax2.set_ylabel(r"fraction of variants with $\alpha_c \leq$ x")
     ax2.legend(loc="lower right", fontsize="small")
     fig.suptitle(f"{study.name}: {alpha.size} of {total} variants certified")
 

@@ -146,10 +146,12 @@ class Executor:
     ``Executor(workers=N)``: N local processes (1: in this process, no pool).
     ``Executor(scheduler="tcp://HOST:PORT")``: an existing cluster (a Client connects).
     ``Executor(client=c)``: a Client the caller owns (not closed here).
+    ``preload``: modules the local worker processes import once, before forking (e.g. the
+    solver's, so that each worker does not import Pyomo again).
     """
 
     def __init__(self, workers: int | None = None, scheduler: str | None = None, client=None,
-                 retries: int = 1):
+                 retries: int = 1, preload=()):
         if workers is not None and scheduler is not None:
             raise InputError("give either a number of local workers or a scheduler address, not both")
         if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
@@ -157,6 +159,7 @@ class Executor:
         if not isinstance(retries, int) or retries < 0:
             raise InputError(f"retries is {retries!r}; expected a whole number >= 0")
         self.retries = retries
+        self.preload = tuple(preload)  # modules local workers import before their first task
         self.client, self._own_client = client, False
         self.workers = workers or os.cpu_count() or 1
         if client is None and scheduler is not None:
@@ -233,7 +236,7 @@ class Executor:
         methods = multiprocessing.get_all_start_methods()
         ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
         if ctx.get_start_method() == "forkserver":
-            ctx.set_forkserver_preload([fn.__module__])
+            ctx.set_forkserver_preload([fn.__module__, *self.preload])
         return ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx, initializer=_install,
                                    initargs=(key, shared, prepare))
 
