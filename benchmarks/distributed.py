@@ -53,7 +53,8 @@ def main(argv=None):
         tables.setdefault(case, []).append(df[[c for c in SCIENCE if c in df.columns]])
         print(f"  {case:<28} {where:<30} {rows[-1]['seconds']:7.1f} s", flush=True)
 
-    print(f"{structure.name}: {len(mus)} variants, {os.cpu_count()} cores", flush=True)
+    load = os.getloadavg()[0]
+    print(f"{structure.name}: {len(mus)} variants, {os.cpu_count()} cores, load average {load:.2f} before", flush=True)
     timed("wall33 once", "this process", one, workers=1)
     timed("study", "1 process (this one)", study, workers=1)
     timed("study", "2 local processes", study, workers=2)
@@ -77,6 +78,8 @@ def main(argv=None):
     print()
     print(df.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
     print("\nevery configuration gave the same table (alpha, modes, seeds) for each case")
+    print(f"load average {load:.2f} before, {os.getloadavg()[0]:.2f} after: other work on these cores "
+          "takes from the speed-up (2 workers cannot beat 1 on one free core)")
 
 
 if __name__ == "__main__":

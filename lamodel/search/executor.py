@@ -170,12 +170,6 @@ class Executor:
             except (OSError, TimeoutError) as exc:
                 raise InputError(f"scheduler {address}: no dask scheduler answered ({exc})") from None
 
-    @property
-    def where(self) -> str:
-        if self.client is not None:
-            return f"dask {self.client.scheduler.address}"
-        return "this process" if self.workers == 1 else f"{self.workers} local processes"
-
     def close(self):
         if self._own_client:
             self.client.close()
