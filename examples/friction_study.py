@@ -6,7 +6,10 @@
 
 For each mu, every contact of the wall gets that friction coefficient and
 ``lamodel.search.driver.solve`` finds the least certified collapse multiplier (the core loop is
-``lamodel.studies.friction_study``). Prints the table, writes it as CSV (``--csv``,
+``lamodel.studies.friction_study``, which runs the study spec ``{"vary": {"mu": [...]}}``;
+``lamodel study examples/friction_study.json`` is the same study from its JSON spec).
+``--workers N`` solves N mus at a time in local processes, ``--scheduler tcp://HOST:PORT``
+on a Dask cluster; the table is the same either way. Prints the table, writes it as CSV (``--csv``,
 default: the plot's path with .csv) and plots alpha_c and the associative bound against mu
 (``--out``, default friction_study.png).
 
@@ -48,7 +51,9 @@ def main(argv=None):
     p.add_argument("--csv", help="table file (default: the plot's path with .csv)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--starts", type=int, default=0, help="Ipopt starts per point (default 0: LPs only)")
-    p.add_argument("--workers", type=int, default=None)
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, default=None, help="local processes, one mu each (default 1)")
+    where.add_argument("--scheduler", help="a dask.distributed scheduler tcp://HOST:PORT to run the mus on")
     args = p.parse_args(argv)
 
     import pandas as pd
@@ -58,9 +63,9 @@ def main(argv=None):
     from lamodel.studies import friction_study, plot_friction_study, write_csv
 
     structure = load_structure(args.instance)
-    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers)
+    options = SolveOptions(seed=args.seed, starts=args.starts)
     t0 = time.perf_counter()
-    df = friction_study(structure, args.mus, options,
+    df = friction_study(structure, args.mus, options, workers=args.workers, scheduler=args.scheduler,
                         progress=lambda r: print(f"  mu = {r['mu']:.3f}: alpha_c = {r['alpha_c']:.6f} "
                                                  f"({r['status']}, {r['seconds']:.1f} s)", flush=True))
     with pd.option_context("display.width", 160, "display.max_columns", 20):

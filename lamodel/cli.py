@@ -1,4 +1,4 @@
-"""The command line: ``lamodel solve | compare | build | table1`` (one parser, one error style).
+"""The command line: ``lamodel solve | study | compare | build | table1`` (one parser, one error style).
 
 ``scripts/solve.py``, ``scripts/compare.py``, ``scripts/build_instance.py`` and
 ``scripts/table1.py`` are thin shims over :func:`command` with their old names.
@@ -11,6 +11,7 @@ exit status 2, never a traceback (``--debug`` shows one). Other exit statuses:
   was certified so far is written); 1 an internal error;
 * compare: 0 the results agree within the tolerance, 1 they differ;
 * build: 0 the .dat file was written;
+* study: 0 every variant certified, 3 some variant not certified;
 * table1: 0 every wall certified, 3 some wall not certified.
 
 Heavy libraries (Pyomo, HiGHS, matplotlib) load only inside the commands that need them,
@@ -83,7 +84,8 @@ def _solve_arguments(p):
                    help=f"at most K Ipopt solves of eq. 5, one from each of the K best distinct collapse states "
                         f"the GA certified: fewer when it certified fewer (runs.csv has one row per solve; "
                         f"default {SolveOptions.starts}; 0: LPs only)")
-    p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
+    _where_arguments(p, "worker processes for the Ipopt starts (default: all cores)",
+                     "run the Ipopt starts on this dask.distributed scheduler instead")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
     p.add_argument("--pop-size", type=_whole(2), default=None,
                    help=f"GA population (default {SolveOptions.pop_size}; {SEED_POP_SIZE} for --method seed)")
@@ -154,7 +156,10 @@ def _solve(args, prog) -> int:
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
                            pop_size=args.pop_size or SolveOptions.pop_size,
                            generations=args.generations or SolveOptions.generations,
-                           solver=args.solver, progress=not args.quiet)
+                           solver=args.solver, progress=not args.quiet, scheduler=args.scheduler)
+    if args.scheduler and args.starts > 0:
+        from .search.executor import check_scheduler
+        check_scheduler(args.scheduler)  # fail at once, not after the GA
     structure = _with_rolling_option(structure, args)
     if args.method != "lamodel" and (structure.cases or structure.rolling is not None):
         raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")
@@ -461,6 +466,57 @@ def _write_study(study, out, structure):
     return dict(study, svg=svg)
 
 
+def _where_arguments(p, workers_help, scheduler_help):
+    """--workers N | --scheduler tcp://HOST:PORT (one or the other)."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=_whole(1), default=None, help=workers_help)
+    g.add_argument("--scheduler", metavar="tcp://HOST:PORT", default=None, help=scheduler_help)
+
+
+# ------------------------------------------------------------------------------- study
+def _study_arguments(p):
+    p.add_argument("spec", metavar="SPEC.json", help="study spec (see lamodel.parametric; "
+                                                      "examples/friction_study.json)")
+    p.add_argument("--out", help="result folder for study.csv and study.png (default: results/<study name>/)")
+    _where_arguments(p, "local worker processes, one variant each at a time (default: all cores)",
+                     "run the variants on this dask.distributed scheduler (its workers need lamodel importable)")
+    p.add_argument("--no-plot", action="store_true", help="draw no picture")
+    p.add_argument("--quiet", action="store_true", help="print only the last line")
+
+
+def _study(args, prog) -> int:
+    import pandas as pd
+
+    from .errors import InputError
+    from .parametric import read_study, run_study, write_study
+
+    study = read_study(args.spec)
+    out = Path(args.out) if args.out else Path("results") / study.name
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: exists and is not a folder; expected a folder for the study files")
+    n = len(study.variants())
+    if not args.quiet:
+        print(f"study {study.name}: {n} variants of '{study.structure.name}'", flush=True)
+    df = run_study(study, workers=args.workers, scheduler=args.scheduler)
+    try:
+        written = write_study(df, study, out, plot=not args.no_plot)
+    except OSError as exc:
+        print(f"{prog}: error: cannot write the study to {out}: {exc.strerror or exc}", file=sys.stderr)
+        return 1
+    if not args.quiet:
+        shown = [c for c in df.columns if c not in ("status", "ga_seed", "worker", "error")]
+        with pd.option_context("display.width", 200, "display.max_columns", 30, "display.max_rows", 60):
+            print(df[shown].to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+        print("written: " + ", ".join(written))
+    ok = df["certified"]
+    retried = int((df["attempts"] > 1).sum())
+    least = f"; least alpha {df.loc[ok, 'alpha'].min():.6f}" if ok.any() else ""
+    print(f"study {study.name}: {int(ok.sum())} of {n} variants certified{least}"
+          + (f"; {retried} retried after a failure" if retried else "")
+          + (f"; {int((df['error'] != '').sum())} failed" if (df["error"] != "").any() else ""))
+    return EXIT_OK if ok.all() else EXIT_NOT_CERTIFIED
+
+
 # ----------------------------------------------------------------------------- compare
 def _compare_arguments(p):
     p.add_argument("a", metavar="A", help="reference result: a result folder or its summary.csv")
@@ -532,6 +588,8 @@ def _table1(args, prog) -> int:
 COMMANDS = {
     "solve": ("minimum collapse multiplier of a block assembly (seed eq. 5), certified by LP",
               _solve_arguments, _solve),
+    "study": ("a parametric study from a JSON spec: one certified alpha per variant, as a table and a plot",
+              _study_arguments, _study),
     "compare": ("compare two result folders (exit 0 agree, 1 differ, 2 bad input)", _compare_arguments, _compare),
     "build": ("write the Pyomo .dat instance of a JSON polygon geometry", _build_arguments, _build),
     "table1": ("the seed's Table 1 with lamodel's certified alpha", _table1_arguments, _table1),

@@ -84,30 +84,35 @@ def outcome_row(outcome: Outcome) -> dict:
 
 
 # ------------------------------------------------------------------------- friction
-def friction_study(structure: Structure, mus, options: SolveOptions | None = None, progress=None) -> pd.DataFrame:
+def friction_study(structure: Structure, mus, options: SolveOptions | None = None, progress=None,
+                   workers: int | None = None, scheduler: str | None = None) -> pd.DataFrame:
     """Certified collapse multiplier of the structure for each friction coefficient.
 
-    One :func:`lamodel.search.driver.solve` per mu (the same options each time) on a copy with
-    that mu on every contact. Columns: mu, alpha_c (NaN if none was certified),
-    alpha_associative, certified, n_sliding, n_hinging (contacts that slip / rotate in the
-    mechanism; a contact doing both counts in both), seconds, status.
-    ``progress(row)`` is called after each solve, if given.
+    The study spec ``{"vary": {"mu": mus}}`` (:mod:`lamodel.parametric`, as
+    ``examples/friction_study.json``) run with these options: one solve per mu on a copy
+    with that mu on every contact, its GA seed spawned from ``options.seed``; on
+    ``workers`` local processes (default 1: this process) or on a Dask ``scheduler``.
+    Columns: mu, alpha_c (NaN if none was certified), alpha_associative, certified,
+    n_sliding, n_hinging (contacts that slip / rotate in the mechanism; a contact doing
+    both counts in both), seconds, status. ``progress(row)`` is called after each solve.
     """
+    from .parametric import run_study, study_from_dict
     mus = [float(m) for m in mus]
     if not mus:
         raise InputError("friction_study: no friction coefficients given; expected at least one mu")
-    rows = []
-    for mu in mus:
-        outcome = solve(with_friction(structure, mu), options or SolveOptions())
-        row = {"mu": mu, **outcome_row(outcome)}
-        rows.append(row)
-        if progress is not None:
-            progress(row)
-    return pd.DataFrame(rows, columns=list(FRICTION_COLUMNS))
+    opt = options or SolveOptions()
+    fields = ("starts", "time_limit", "pop_size", "generations", "chain", "xi_factor", "solver")
+    spec = {"vary": {"mu": mus}, "seed": opt.seed, "options": {k: getattr(opt, k) for k in fields}}
+    study = study_from_dict(spec, structure, where="friction_study")
+    rename = lambda row: {**row, "alpha_c": row["alpha"]}  # noqa: E731
+    df = run_study(study, workers=workers or (None if scheduler else 1), scheduler=scheduler, progress=False,
+                   on_row=None if progress is None else (lambda row: progress(rename(row))))
+    return df.rename(columns={"alpha": "alpha_c"})[list(FRICTION_COLUMNS)]
 
 
-def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str:
-    """alpha_c and the associative bound against mu (matplotlib, Agg); returns the path."""
+def save_figure(path, draw, size=(6.4, 4.2)) -> str:
+    """A matplotlib figure (Agg) drawn by ``draw(fig)``, saved atomically to ``path``
+    (folders created; the format from the suffix); returns the path."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -115,8 +120,20 @@ def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str
     path = Path(os.fspath(path))
     if path.parent and not path.parent.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=110)
+    fig = plt.figure(figsize=size, dpi=110)
     try:
+        draw(fig)
+        fig.tight_layout()
+        _atomic(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png"))
+    finally:
+        plt.close(fig)
+    return str(path)
+
+
+def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str:
+    """alpha_c and the associative bound against mu (matplotlib, Agg); returns the path."""
+    def draw(fig):
+        ax = fig.add_subplot()
         ok = df["certified"].astype(bool)
         ax.plot(df["mu"], df["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
         ax.plot(df.loc[ok, "mu"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", label=r"$\alpha_c$ (certified)")
@@ -130,11 +147,7 @@ def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str
         ax.set_title(title or r"collapse multiplier against $\mu$")
         ax.grid(True, linewidth=0.3)
         ax.legend(loc="best", fontsize="small")
-        fig.tight_layout()
-        _atomic(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png"))
-    finally:
-        plt.close(fig)
-    return str(path)
+    return save_figure(path, draw)
 
 
 # ------------------------------------------------------------------------- load cases, rolling load

@@ -40,3 +40,19 @@ def run_script(script, *args, cwd=None, timeout=600):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     return subprocess.run([sys.executable, str(ROOT / "scripts" / script), *map(str, args)], capture_output=True,
                           text=True, cwd=cwd or ROOT, env=env, timeout=timeout)
+
+
+@pytest.fixture(scope="session")
+def dask_cluster():
+    """A real dask.distributed cluster on the loopback: a scheduler and 2 worker processes
+    (one thread each) that import this checkout's lamodel. A task whose worker dies is
+    rerun once elsewhere (allowed-failures 1), as lamodel's local pools do."""
+    import dask
+    from distributed import LocalCluster
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address=None, env={"PYTHONPATH": str(ROOT)})
+    try:
+        yield cluster
+    finally:
+        cluster.close()

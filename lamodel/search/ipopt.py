@@ -8,8 +8,9 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import threading
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
@@ -40,9 +41,10 @@ IPOPT_STATUS = {0: "optimal", 1: "acceptable", 2: "infeasible", 3: "step too sma
 _WORKER = {}
 
 
-def _init_worker(structure: Structure, xi_factor: float, solver: str):
+def _init_worker(structure: Structure, xi_factor: float, solver: str, own_signals: bool = True):
     """Build the Pyomo model of eq. (5) and compile it for Ipopt, once per worker."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    if own_signals:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     from ..formulation.model import create_model
     from .bridge import QuadraticNLP
     m = create_model(structure, xi_factor=xi_factor)
@@ -54,6 +56,13 @@ def _warm(_):
 
 
 def start_pool(structure, opt):
+    """Where the Ipopt starts run: a pool of local processes (default), a Dask cluster
+    (``opt.scheduler``), or this process when it is itself a worker (a study's variant,
+    a Dask task: the work is already spread, and daemonic workers cannot fork a pool)."""
+    if opt.scheduler is not None:
+        return _DaskPool(structure, opt)
+    if multiprocessing.parent_process() is not None:
+        return _InlinePool(structure, opt)
     workers = opt.workers or os.cpu_count() or 1
     workers = max(1, min(workers, opt.starts))
     # fork before any HiGHS thread exists in this process; workers build their models
@@ -64,6 +73,66 @@ def start_pool(structure, opt):
     for _ in range(workers):
         pool.submit(_warm, None)
     return pool
+
+
+class _InlinePool:
+    """The pool interface, run in this process at submit (one start after another)."""
+
+    def __init__(self, structure, opt):
+        self.args = (structure, opt.xi_factor, opt.solver, False)
+
+    def submit(self, fn, *args):
+        if self.args is not None:  # the model of this structure, built at the first start
+            _init_worker(*self.args)
+            self.args = None
+        fut = Future()
+        try:
+            fut.set_result(fn(*args))
+        except Exception as exc:  # recorded by ipopt_multistart like a pool's failure
+            fut.set_exception(exc)
+        return fut
+
+    def shutdown(self, wait=True, cancel_futures=False):
+        pass
+
+
+class _DaskPool:
+    """The pool interface on a dask.distributed cluster: each worker builds the model once
+    per structure (:func:`lamodel.search.executor.context`); a deadline travels as the
+    seconds left (clocks of other machines differ)."""
+
+    def __init__(self, structure, opt):
+        from .executor import Executor, fingerprint, share
+        self.executor = Executor(scheduler=opt.scheduler)
+        client = self.executor.client
+        self.key = fingerprint((structure, opt.xi_factor, opt.solver))
+        self.shared = share(client, (structure, opt.xi_factor, opt.solver), self.key)
+        self.pool = client.get_executor(retries=1, pure=False)
+
+    def submit(self, fn, *args):
+        args = tuple(("seconds left", a.left()) if isinstance(a, Deadline) and a.at is not None else a for a in args)
+        return self.pool.submit(_on_dask_worker, self.key, self.shared, fn, *args)
+
+    def shutdown(self, wait=True, cancel_futures=False):
+        self.pool.shutdown(wait=False)
+        self.executor.close()
+
+
+def _prepare_model(shared):
+    structure, xi_factor, solver = shared
+    _init_worker(structure, xi_factor, solver, own_signals=False)
+    return dict(_WORKER)
+
+
+_MODEL_LOCK = threading.Lock()  # one Pyomo model per worker: its threads take turns
+
+
+def _on_dask_worker(key, shared, fn, *args):
+    from .executor import context
+    args = tuple(Deadline.after(a[1]) if isinstance(a, tuple) and a[:1] == ("seconds left",) else a for a in args)
+    with _MODEL_LOCK:
+        _WORKER.update(context(key, shared, _prepare_model))
+        return fn(*args)
 
 
 def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LADDER, options=None,

@@ -25,6 +25,7 @@ class SolveOptions:
     ipopt_options: dict = field(default_factory=dict)
     solver: str = "lamodel_ipopt"  # or "ipopt": Pyomo's interface to an ipopt executable on PATH
     progress: bool = False
+    scheduler: str | None = None   # tcp://HOST:PORT of a dask.distributed cluster for the Ipopt starts
 
     def __post_init__(self):
         self.validate()
@@ -48,6 +49,8 @@ class SolveOptions:
             raise InputError(f"option time_limit is {self.time_limit!r}; expected a number of seconds > 0")
         if not (isinstance(self.xi_factor, (int, float)) and self.xi_factor > 0):
             raise InputError(f"option xi_factor is {self.xi_factor!r}; expected a number > 0")
+        if self.scheduler is not None and not (isinstance(self.scheduler, str) and "://" in self.scheduler):
+            raise InputError(f"option scheduler is {self.scheduler!r}; expected an address tcp://HOST:PORT")
         if self.solver not in SOLVERS:
             raise InputError(f"solver '{self.solver}' is unknown; expected 'lamodel_ipopt' or 'ipopt'")
         return self

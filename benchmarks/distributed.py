@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Wall-clock of lamodel's executor: a study's speed-up with 2 local workers against 1, and
+the overhead of a Dask cluster (a LocalCluster on 127.0.0.1) against local processes.
+
+    PYTHONPATH=$PWD python benchmarks/distributed.py                 # 40 variants of wall33
+    PYTHONPATH=$PWD python benchmarks/distributed.py --variants 8    # quicker
+
+The study is wall33 (starts 0: LPs only) with mu from 0.3 to 0.9 in ``--variants`` steps;
+each configuration solves the same variants with the same seeds, so the tables agree (the
+script checks it) and only the clock differs. A machine shared with other work makes the
+numbers noisy: compare them within one run.
+"""
+import argparse
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+# this file's folder first on sys.path would make "distributed" this script, not Dask's package
+sys.path[:] = [str(ROOT)] + [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
+
+SCIENCE = ["mu", "alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "ga_seed"]
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--variants", type=int, default=40, help="variants of the study (default 40)")
+    p.add_argument("--instance", default=str(ROOT / "instances" / "wall33.json"))
+    args = p.parse_args(argv)
+
+    import os
+
+    import dask
+    import numpy as np
+    import pandas as pd
+    from distributed import LocalCluster
+
+    from lamodel.io import read
+    from lamodel.parametric import run_study, study_from_dict
+    from lamodel.search.executor import Executor
+
+    structure = read(args.instance)
+    mus = np.round(np.linspace(0.3, 0.9, args.variants), 6).tolist()
+    study = study_from_dict({"options": {"starts": 0}, "seed": 0, "vary": {"mu": mus}}, structure)
+    one = study_from_dict({"options": {"starts": 0}, "seed": 0}, structure)
+    rows, tables = [], {}
+
+    def timed(case, where, s, **kw):
+        t = time.perf_counter()
+        df = run_study(s, progress=False, **kw)
+        rows.append({"case": case, "where": where, "variants": len(df), "seconds": time.perf_counter() - t,
+                     "certified": int(df["certified"].sum())})
+        tables.setdefault(case, []).append(df[[c for c in SCIENCE if c in df.columns]])
+        print(f"  {case:<28} {where:<30} {rows[-1]['seconds']:7.1f} s", flush=True)
+
+    load = os.getloadavg()[0]
+    print(f"{structure.name}: {len(mus)} variants, {os.cpu_count()} cores, load average {load:.2f} before", flush=True)
+    timed("wall33 once", "this process", one, workers=1)
+    timed("study", "1 process (this one)", study, workers=1)
+    timed("study", "2 local processes", study, workers=2)
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
+                               env={"PYTHONPATH": str(ROOT)})
+    try:
+        with Executor(scheduler=cluster.scheduler_address) as ex:
+            ex.client.wait_for_workers(2)
+            timed("wall33 once", "dask task (cold worker)", one, executor=ex)
+            timed("wall33 once", "dask task (warm worker)", one, executor=ex)
+            timed("study", "dask, 2 workers", study, executor=ex)
+    finally:
+        cluster.close()
+
+    for case, dfs in tables.items():
+        assert all(d.equals(dfs[0]) for d in dfs), f"{case}: the tables differ between configurations"
+    df = pd.DataFrame(rows)
+    base = df.groupby("case")["seconds"].transform("first")
+    df["speed-up"] = base / df["seconds"]
+    print()
+    print(df.to_string(index=False, float_format=lambda v: f"{v:.2f}"))
+    print("\nevery configuration gave the same table (alpha, modes, seeds) for each case")
+    print(f"load average {load:.2f} before, {os.getloadavg()[0]:.2f} after: other work on these cores "
+          "takes from the speed-up (2 workers cannot beat 1 on one free core)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,410 @@
+"""Parametric studies from a small JSON spec: variants of one structure, each solved by the
+driver, locally or on a Dask cluster (:mod:`lamodel.search.executor`), as one tidy table.
+
+A spec (paths relative to the spec's folder)::
+
+    {"name": "wall33_friction",
+     "structure": "../instances/wall33.dat",           # .dat or .json
+     "seed": 0,                                        # root of every variant's seeds
+     "options": {"starts": 0, "pop_size": 10, "generations": 5, "time_limit": 60},
+     "vary": {"mu": {"from": 0.3, "to": 0.9, "step": 0.1},          # or a list, or a number
+              "load_angle": [0, 5, 10],                              # degrees, counter-clockwise
+              "dead_force": {"block": "b33", "fx": [0, -0.5], "fy": 0}},
+     "random": {"count": 40, "mu": {"sd": 0.05, "per": "contact"}, "size": {"sd": 0.02}}}
+
+Variants are every combination of the ``vary`` values (mu, load_angle, dead_fx, dead_fy in
+that order), each repeated ``random.count`` times with independent random perturbations.
+
+* ``mu``: the friction coefficient of every contact.
+* ``load_angle``: every block's live force rotated by this angle (degrees,
+  counter-clockwise; 0 is the structure's own live load), its magnitude kept.
+* ``dead_force``: a constant force (dead_fx, dead_fy) added at a block's centroid.
+* ``random.mu``: mu + sd·z, z standard normal, per contact (``per: "contact"``, default)
+  or one z for the whole structure (``per: "structure"``), clipped at 0.
+* ``random.size``: each block's size scaled by s = 1 + sd·z (z clipped to ±3) in place:
+  its weight and live force scale with its area (s²), each joint's half-length with the
+  smaller factor of its two bodies (supports do not change); positions are kept.
+
+Variant i's randomness (perturbation and GA seed) comes from child i of
+``SeedSequence(seed)``, so the table is the same for any number of workers, locally or
+on Dask. One row per variant: the parameters, alpha (certified, NaN if none),
+certified, alpha_associative, mode counts, seconds, status, ga_seed, and where it ran
+(attempts, worker, error).
+"""
+from __future__ import annotations
+
+import copy
+import dataclasses
+import json
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import InputError
+from .structure import Structure
+
+#: columns after the parameters, in this order
+RESULT_COLUMNS = ("alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "seconds",
+                  "status", "ga_seed", "attempts", "worker", "error")
+#: columns that depend on where and when a variant ran, not on the science
+RUN_COLUMNS = ("seconds", "attempts", "worker", "error")
+SPEC_KEYS = ("name", "structure", "seed", "options", "vary", "random", "description")
+VARY_KEYS = ("mu", "load_angle", "dead_force")
+OPTION_KEYS = ("starts", "time_limit", "pop_size", "generations", "chain", "xi_factor", "solver")
+
+
+@dataclass(frozen=True)
+class Study:
+    """A parsed spec: what every variant shares (sent once to each worker) and the grid."""
+
+    name: str
+    structure: Structure
+    options: dict                 # SolveOptions fields shared by every variant
+    grid: tuple = ()              # ((column, values), ...)
+    dead_block: str | None = None
+    random: dict | None = None    # {"count", "mu": {"sd", "per"}, "size": {"sd"}}
+    seed: int = 0
+
+    def variants(self) -> list[dict]:
+        """The parameters of each variant, in table order."""
+        rows = [{}]
+        for column, values in self.grid:
+            rows = [{**r, column: v} for r in rows for v in values]
+        if self.dead_block is not None:
+            rows = [{"dead_block": self.dead_block, **r} for r in rows]
+        if self.random:
+            rows = [{**r, "sample": k} for r in rows for k in range(self.random["count"])]
+        return rows
+
+
+# ------------------------------------------------------------------------- the spec
+def _numbers(value, where) -> list[float]:
+    """A number, a list of numbers, or a range {from, to, num | step} (both ends kept)."""
+    if isinstance(value, dict):
+        unknown = set(value) - {"from", "to", "num", "step"}
+        if unknown or "from" not in value or "to" not in value or ("num" in value) == ("step" in value):
+            raise InputError(f"{where}: expected a range {{\"from\": a, \"to\": b, \"num\": n}} or "
+                             f"{{\"from\": a, \"to\": b, \"step\": h}}, got {json.dumps(value)}")
+        a, b = _number(value["from"], where), _number(value["to"], where)
+        if "num" in value:
+            n = value["num"]
+            if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+                raise InputError(f"{where}: num is {n!r}; expected a whole number >= 1")
+            values = np.linspace(a, b, n) if n > 1 else np.array([a])
+        else:
+            h = _number(value["step"], where)
+            if h == 0 or (b - a) / h < 0:
+                raise InputError(f"{where}: step {h:g} does not lead from {a:g} to {b:g}")
+            values = a + h * np.arange(math.floor((b - a) / h + 1e-9) + 1)
+        return [round(float(v), 12) for v in values]  # 0.1 steps give 0.3, not 0.30000000000000004
+    if isinstance(value, list):
+        if not value:
+            raise InputError(f"{where}: the list is empty; expected at least one value")
+        return [_number(v, where) for v in value]
+    return [_number(value, where)]
+
+
+def _number(value, where) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where}: {json.dumps(value)} is not a finite number")
+    return float(value)
+
+
+def _check_keys(d, allowed, where):
+    if not isinstance(d, dict):
+        raise InputError(f"{where}: expected a JSON object, got {json.dumps(d)[:60]}")
+    unknown = sorted(set(d) - set(allowed))
+    if unknown:
+        raise InputError(f"{where}: unknown key '{unknown[0]}'; expected {', '.join(allowed)}")
+
+
+def _sd(d, where) -> float:
+    _check_keys(d, ("sd", "per") if where.endswith("mu") else ("sd",), where)
+    if "sd" not in d:
+        raise InputError(f"{where}: 'sd' is missing; expected a standard deviation >= 0")
+    sd = _number(d["sd"], f"{where}.sd")
+    if sd < 0:
+        raise InputError(f"{where}.sd is {sd:g}; expected a standard deviation >= 0")
+    return sd
+
+
+def study_from_dict(spec: dict, structure: Structure, where: str = "study spec") -> Study:
+    """A Study from a parsed spec and its (already read) base structure."""
+    _check_keys(spec, SPEC_KEYS, where)
+    from .search.options import SolveOptions
+    options = spec.get("options", {})
+    _check_keys(options, OPTION_KEYS, f"{where}: options")
+    SolveOptions(**options)  # one line on a bad option, before any worker starts
+    seed = spec.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError(f"{where}: seed is {seed!r}; expected a whole number >= 0")
+    vary = spec.get("vary", {})
+    _check_keys(vary, VARY_KEYS, f"{where}: vary")
+    grid, dead_block = [], None
+    if "mu" in vary:
+        mus = _numbers(vary["mu"], f"{where}: vary.mu")
+        if min(mus) < 0:
+            raise InputError(f"{where}: vary.mu has {min(mus):g}; expected friction coefficients >= 0")
+        grid.append(("mu", mus))
+    if "load_angle" in vary:
+        grid.append(("load_angle", _numbers(vary["load_angle"], f"{where}: vary.load_angle")))
+    if "dead_force" in vary:
+        force = vary["dead_force"]
+        _check_keys(force, ("block", "fx", "fy"), f"{where}: vary.dead_force")
+        dead_block = str(force.get("block", ""))
+        if dead_block not in structure.block_index():
+            raise InputError(f"{where}: vary.dead_force.block '{dead_block}' is not a movable block of "
+                             f"'{structure.name}'; expected one of {', '.join(structure.blocks[:6])}, ...")
+        grid.append(("dead_fx", _numbers(force.get("fx", 0.0), f"{where}: vary.dead_force.fx")))
+        grid.append(("dead_fy", _numbers(force.get("fy", 0.0), f"{where}: vary.dead_force.fy")))
+    random = None
+    if "random" in spec:
+        r = spec["random"]
+        _check_keys(r, ("count", "seed", "mu", "size"), f"{where}: random")
+        count = r.get("count")
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise InputError(f"{where}: random.count is {count!r}; expected a whole number >= 1")
+        if "seed" in r:
+            if "seed" in spec and spec["seed"] != r["seed"]:
+                raise InputError(f"{where}: seed {spec['seed']} and random.seed {r['seed']} differ; expected one seed")
+            seed = r["seed"]
+            if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+                raise InputError(f"{where}: random.seed is {seed!r}; expected a whole number >= 0")
+        if "mu" not in r and "size" not in r:
+            raise InputError(f"{where}: random perturbs nothing; expected 'mu' and/or 'size'")
+        random = {"count": count}
+        if "mu" in r:
+            per = r["mu"].get("per", "contact") if isinstance(r["mu"], dict) else None
+            random["mu"] = {"sd": _sd(r["mu"], f"{where}: random.mu"), "per": per}
+            if per not in ("contact", "structure"):
+                raise InputError(f"{where}: random.mu.per is {per!r}; expected 'contact' or 'structure'")
+        if "size" in r:
+            random["size"] = {"sd": _sd(r["size"], f"{where}: random.size")}
+    name = str(spec.get("name") or structure.name)
+    return Study(name, structure, dict(options), tuple((c, tuple(v)) for c, v in grid), dead_block, random, seed)
+
+
+def read_study(path) -> Study:
+    """A Study from a JSON spec file; its structure path is relative to the spec's folder."""
+    from .io import read
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{path}: no such file; expected a study spec (.json)")
+    try:
+        spec = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{path}: not a JSON study spec ({exc})") from None
+    if not isinstance(spec, dict) or "structure" not in spec:
+        raise InputError(f"{path}: 'structure' is missing; expected the path of a .dat or .json structure")
+    where = Path(spec["structure"])
+    structure = read(where if where.is_absolute() else p.parent / where)
+    spec.setdefault("name", p.stem)
+    return study_from_dict(spec, structure, where=str(path))
+
+
+# ------------------------------------------------------------------------- variants
+def with_load_angle(structure: Structure, degrees: float) -> Structure:
+    """A copy with every live force rotated by ``degrees`` counter-clockwise."""
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    out = copy.deepcopy(structure)
+    out.live = structure.live @ np.array([[c, s], [-s, c]])
+    return out
+
+
+def with_block_sizes(structure: Structure, factors) -> Structure:
+    """A copy with block j's size scaled by factors[j] in place (see the module doc)."""
+    f = np.asarray(factors, dtype=float)
+    out = copy.deepcopy(structure)
+    out.dead = structure.dead * (f ** 2)[:, None]
+    out.live = structure.live * (f ** 2)[:, None]
+    ia, ib = structure.contact_blocks()
+    fa = np.where(ia >= 0, f[ia], np.inf)
+    fb = np.where(ib >= 0, f[ib], np.inf)
+    out.d = structure.d * np.minimum(fa, fb)
+    return out
+
+
+def variant_structure(study: Study, params: dict, rng: np.random.Generator) -> tuple[Structure, dict]:
+    """The structure of one variant and what its random draw was (summary columns)."""
+    from .studies import with_dead_force, with_friction
+    s, drawn = study.structure, {}
+    if "mu" in params:
+        s = with_friction(s, params["mu"])
+    if "load_angle" in params:
+        s = with_load_angle(s, params["load_angle"])
+    if study.dead_block is not None:
+        s = with_dead_force(s, study.dead_block, params["dead_fx"], params["dead_fy"], name=s.name)
+    r = study.random or {}
+    if "mu" in r:
+        z = rng.standard_normal(s.n_contacts if r["mu"]["per"] == "contact" else 1)
+        s = copy.deepcopy(s)
+        s.mu = np.maximum(s.mu + r["mu"]["sd"] * z, 0.0)
+        drawn.update(mu_mean=float(s.mu.mean()), mu_min=float(s.mu.min()))
+    if "size" in r:
+        f = 1.0 + r["size"]["sd"] * np.clip(rng.standard_normal(s.n_blocks), -3, 3)
+        s = with_block_sizes(s, f)
+        drawn.update(size_min=float(f.min()), size_max=float(f.max()))
+    return s, drawn
+
+
+def solve_variant(study: Study, params: dict, seed: np.random.SeedSequence) -> dict:
+    """One row of the table: a pure function of (study, params, seed)."""
+    from .search.driver import SolveOptions, solve
+    from .studies import outcome_row
+    words = seed.generate_state(5)  # [GA seed, perturbation stream...]: pure, unlike spawn()
+    ga_seed = int(words[0])
+    structure, drawn = variant_structure(study, params, np.random.default_rng(words[1:]))
+    # one process per variant: the parallelism is across variants (no nested pools)
+    opts = SolveOptions(**study.options, seed=ga_seed, workers=1, progress=False)
+    row = outcome_row(solve(structure, opts))
+    row["alpha"] = row.pop("alpha_c")
+    return {**params, **drawn, **row, "ga_seed": ga_seed}
+
+
+# ------------------------------------------------------------------------- running
+def run_study(study: Study, workers: int | None = None, scheduler: str | None = None, executor=None,
+              progress: bool | None = None, on_row=None) -> pd.DataFrame:
+    """Solve every variant (on ``executor``, or a fresh one with ``workers`` local processes
+    or on ``scheduler``); the table in variant order. ``progress``: a tqdm bar on stderr
+    (default: only when stderr is a terminal); ``on_row(row)`` after each variant."""
+    import sys
+
+    from tqdm import tqdm
+
+    from .search.executor import Executor
+    variants = study.variants()
+    if progress is None:
+        progress = sys.stderr.isatty()
+    bar = tqdm(total=len(variants), desc=f"study {study.name}", unit="variant", file=sys.stderr,
+               disable=not progress, dynamic_ncols=True)
+    best = [math.inf]
+
+    def done(res):
+        row = _row(variants[res.index], res)
+        if row["certified"] and row["alpha"] < best[0]:
+            best[0] = row["alpha"]
+            bar.set_postfix_str(f"least alpha {best[0]:.6f}")
+        bar.update()
+        if on_row is not None:
+            on_row(row)
+
+    own = executor is None
+    ex = executor or Executor(workers=workers, scheduler=scheduler, preload=("lamodel.search.driver",))
+    try:
+        results = ex.map(solve_variant, variants, shared=study, seed=study.seed, progress=done)
+    finally:
+        bar.close()
+        if own:
+            ex.close()
+    return _table([_row(v, r) for v, r in zip(variants, results)])
+
+
+def _row(params, res) -> dict:
+    if res.ok:
+        row = dict(res.value)
+    else:  # every attempt failed: the variant is in the table, without a multiplier
+        row = {**params, "alpha": np.nan, "certified": False, "alpha_associative": np.nan, "status": "failed"}
+    worker = res.worker or (res.lost[-1] if res.lost else "")
+    row.update(attempts=res.attempts, worker=worker, error=res.error,
+               seconds=row.get("seconds", res.seconds))
+    return row
+
+
+def _table(rows) -> pd.DataFrame:
+    df = pd.DataFrame(rows)
+    params = [c for c in df.columns if c not in RESULT_COLUMNS]
+    for c in RESULT_COLUMNS:
+        if c not in df.columns:
+            df[c] = np.nan
+    df["certified"] = df["certified"].astype(bool)
+    return df[params + list(RESULT_COLUMNS)]
+
+
+def parameter_columns(df: pd.DataFrame) -> list[str]:
+    return [c for c in df.columns if c not in RESULT_COLUMNS]
+
+
+# ------------------------------------------------------------------------- the picture
+def plot_study(df: pd.DataFrame, study: Study, path) -> str:
+    """alpha against the first varied parameter (one line per combination of the others;
+    with random samples, the samples and their median), or, when only random
+    perturbations vary, the distribution of alpha (histogram and ECDF, with the 5 %, 50 %
+    and 95 % quantiles). Returns the path."""
+    from .studies import save_figure
+    varied = [c for c, _ in study.grid]
+    ok = df[df["certified"]]
+
+    def draw(fig):
+        if not varied:
+            _plot_distribution(fig, ok["alpha"].to_numpy(), study, len(df))
+        else:
+            _plot_against(fig.add_subplot(), df, varied, study)
+    return save_figure(path, draw, size=(9.0 if not varied else 6.4, 4.2))
+
+
+def _plot_distribution(fig, alpha, study, total):
+    ax1, ax2 = fig.subplots(1, 2)
+    if alpha.size == 0:
+        ax1.text(0.5, 0.5, "no certified variant", ha="center", transform=ax1.transAxes)
+        return
+    q = np.quantile(alpha, [0.05, 0.5, 0.95])
+    ax1.hist(alpha, bins=max(5, min(30, alpha.size // 2)), color="#c0392b", alpha=0.75)
+    x = np.sort(alpha)
+    ax2.step(x, np.arange(1, x.size + 1) / x.size, where="post", color="#c0392b")
+    for ax in (ax1, ax2):
+        for v, label, style in zip(q, ("5 %", "median", "95 %"), (":", "--", ":")):
+            ax.axvline(v, color="#1f5fbf", linestyle=style, linewidth=1.0, label=f"{label} {v:.4f}")
+        ax.set_xlabel(r"certified collapse multiplier $\alpha_c$")
+        ax.grid(True, linewidth=0.3)
+    from matplotlib.ticker import MaxNLocator
+    ax1.yaxis.set_major_locator(MaxNLocator(integer=True))
+    ax1.set_ylabel("variants")
+    ax2.set_ylabel(r"fraction of variants with $\alpha_c \leq$ x")
+    ax2.legend(loc="lower right", fontsize="small")
+    fig.suptitle(f"{study.name}: {alpha.size} of {total} variants certified")
+
+
+def _plot_against(ax, df, varied, study):
+    x, others = varied[0], varied[1:]
+    groups = df.groupby(others, sort=False) if others else [((), df)]
+    for k, (key, g) in enumerate(groups):
+        key = key if isinstance(key, tuple) else (key,)
+        label = ", ".join(f"{c} = {v:g}" for c, v in zip(others, key))
+        color = f"C{k}"
+        ok = g[g["certified"]]
+        if study.random:
+            ax.plot(ok[x], ok["alpha"], ".", color=color, alpha=0.35, markersize=4)
+            med = ok.groupby(x)["alpha"].median()
+            ax.plot(med.index, med.to_numpy(), "o-", color=color, label=(label + ": " if label else "") + "median")
+        else:
+            ax.plot(ok[x], ok["alpha"], "o-", color=color, label=label or r"$\alpha_c$ (certified)")
+        if not others and not study.random:
+            ax.plot(g[x], g["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
+        for v in g.loc[~g["certified"], x]:
+            ax.axvline(v, color=color, linestyle=":", linewidth=0.8)
+    ax.set_xlabel({"mu": r"friction coefficient $\mu$", "load_angle": "live-load angle (degrees)",
+                   "dead_fx": f"dead force $f_x$ on {study.dead_block}",
+                   "dead_fy": f"dead force $f_y$ on {study.dead_block}"}.get(x, x))
+    ax.set_ylabel(r"load multiplier $\alpha$")
+    ax.set_title(f"{study.name}: collapse multiplier against {x.replace('_', ' ')}")
+    ax.grid(True, linewidth=0.3)
+    ax.legend(loc="best", fontsize="small")
+
+
+def write_study(df: pd.DataFrame, study: Study, out, plot: bool = True) -> list[str]:
+    """study.csv (atomic) and study.png in the folder ``out``; the paths written."""
+    from .studies import write_csv
+    out = Path(os.fspath(out))
+    written = [write_csv(df, out / "study.csv")]
+    if plot:
+        written.append(plot_study(df, study, out / "study.png"))
+    return written
+
+
+def with_options(study: Study, **options) -> Study:
+    """The same study with some solve options changed."""
+    return dataclasses.replace(study, options={**study.options, **options})

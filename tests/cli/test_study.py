@@ -1,0 +1,114 @@
+"""lamodel study: a spec to a table and a plot; the same table for any number of workers
+and on a Dask cluster; bad input in one line; lamodel solve --scheduler."""
+import json
+import os
+import socket
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+
+from conftest import INSTANCES, ROOT
+
+#: columns that are the science of a variant (not where or how long it ran)
+SCIENCE = ["mu", "alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "status", "ga_seed"]
+
+
+def lamodel(*args, timeout=600):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "lamodel.cli", *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout, cwd=ROOT, env=env)
+
+
+def spec_file(tmp_path, **spec):
+    path = tmp_path / "spec.json"
+    path.write_text(json.dumps({"structure": str(INSTANCES / "wall33.json"), "options": {"starts": 0}, **spec}))
+    return path
+
+
+def test_a_small_study_is_the_same_serial_local_and_on_dask(tmp_path, dask_cluster):
+    spec = spec_file(tmp_path, name="w33", seed=2, vary={"mu": [0.4, 0.9]})
+    tables = {}
+    for where, args in {"serial": ("--workers", 1), "local": ("--workers", 2),
+                        "dask": ("--scheduler", dask_cluster.scheduler_address)}.items():
+        out = tmp_path / where
+        res = lamodel("study", spec, "--out", out, *args)
+        assert res.returncode == 0, res.stdout + res.stderr
+        assert "study w33: 2 of 2 variants certified; least alpha 0.400000" in res.stdout
+        tables[where] = pd.read_csv(out / "study.csv")
+        assert (out / "study.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+    serial = tables["serial"]
+    assert serial["mu"].tolist() == [0.4, 0.9]
+    assert serial["alpha"].tolist() == pytest.approx([0.4, 0.617364], abs=1e-6)
+    assert (serial["attempts"] == 1).all()
+    for where in ("local", "dask"):
+        pd.testing.assert_frame_equal(tables[where][SCIENCE], serial[SCIENCE])
+    assert tables["dask"]["worker"].str.startswith("tcp://127.0.0.1:").all()
+    assert tables["local"]["worker"].str.startswith("local pid ").all()
+
+
+def test_random_perturbations_give_a_distribution(tmp_path):
+    spec = spec_file(tmp_path, name="w33mc", random={"count": 3, "seed": 4, "mu": {"sd": 0.05, "per": "structure"},
+                                                     "size": {"sd": 0.02}})
+    res = lamodel("study", spec, "--out", tmp_path / "mc", "--workers", 2, "--quiet")
+    assert res.returncode == 0, res.stdout + res.stderr
+    df = pd.read_csv(tmp_path / "mc" / "study.csv")
+    assert df["sample"].tolist() == [0, 1, 2]
+    assert df["certified"].all() and df["ga_seed"].nunique() == 3
+    assert df["mu_mean"].nunique() == 3  # one mu for the whole structure per variant:
+    assert df["mu_mean"].to_numpy() == pytest.approx(df["mu_min"].to_numpy(), abs=1e-12)
+    assert (df["size_min"] < 1).all() and (df["size_max"] > 1).all()
+    # the study's variants are reproducible: the first one again, alone in this process
+    from lamodel.parametric import read_study, solve_variant
+    from lamodel.search.executor import task_seeds
+    study = read_study(spec)
+    first = solve_variant(study, study.variants()[0], task_seeds(4, 3)[0])
+    assert first["alpha"] == df.loc[0, "alpha"] and first["mu_mean"] == df.loc[0, "mu_mean"]
+    assert (tmp_path / "mc" / "study.png").exists()
+
+
+def test_the_friction_study_ships_as_a_spec():
+    from lamodel.parametric import read_study
+    study = read_study(ROOT / "examples" / "friction_study.json")
+    assert [v["mu"] for v in study.variants()] == [0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
+    assert study.structure.n_blocks == 33 and study.options == {"starts": 0}
+
+
+def _closed_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.mark.parametrize("spec, args, text", [
+    ({}, ("--scheduler", f"tcp://127.0.0.1:{_closed_port()}"), "cannot connect"),
+    ({}, ("--scheduler", "somewhere"), "expected an address tcp://HOST:PORT"),
+    ({}, ("--workers", 2, "--scheduler", "tcp://127.0.0.1:1"), "not allowed with argument"),
+    ({"vary": {"friction": [0.5]}}, (), "unknown key 'friction'"),
+    ({"vary": {"mu": {"from": 0.3, "to": 0.9}}}, (), "expected a range"),
+    ({"vary": {"dead_force": {"block": "nope", "fx": 1}}}, (), "'nope' is not a movable block"),
+    ({"random": {"count": 0, "mu": {"sd": 0.1}}}, (), "random.count is 0"),
+    ({"options": {"starts": -1}}, (), "option starts is -1"),
+])
+def test_bad_study_input_is_one_line_exit_2(tmp_path, spec, args, text):
+    res = lamodel("study", spec_file(tmp_path, **spec), "--out", tmp_path / "out", *args, timeout=60)
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert lines[0].startswith("lamodel study: error: ") and text in lines[0], lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_solve_on_a_dask_scheduler_gives_the_local_alpha(tmp_path, dask_cluster):
+    """The Ipopt starts of lamodel solve on the cluster: the summary is the local one."""
+    common = ("--starts", 1, "--no-plot", "--quiet")
+    local = lamodel("solve", INSTANCES / "wall33.json", "--out", tmp_path / "local", *common)
+    remote = lamodel("solve", INSTANCES / "wall33.json", "--out", tmp_path / "dask", *common,
+                     "--scheduler", dask_cluster.scheduler_address)
+    assert local.returncode == 0 and remote.returncode == 0, local.stderr + remote.stderr
+    a, b = (pd.read_csv(tmp_path / w / "runs.csv") for w in ("local", "dask"))
+    assert b.loc[1, "status"] in ("optimal", "acceptable")  # the Ipopt start ran, on the cluster
+    pd.testing.assert_frame_equal(a.drop(columns="seconds"), b.drop(columns="seconds"))
+    sa, sb = (pd.read_csv(tmp_path / w / "summary.csv") for w in ("local", "dask"))
+    assert sa.loc[0, "alpha"] == sb.loc[0, "alpha"] == pytest.approx(0.638982, abs=1e-6)
