@@ -108,6 +108,7 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
             return finish("not_certified" if status == "failed" else status, message)
         alpha_assoc = assoc.alpha if assoc is not None else np.inf
         if assoc is not None:
+            _lp_engine(structure, opt, deadline, final)
             _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time)
         best = final.best(1)[0] if final.states else None
         runs.append(Run(0, "ga+lp", np.nan, ("certified" if best else "not_certified")
@@ -164,6 +165,24 @@ def _classify(structure, lps, final):
     if state is not None:
         final.add(descend(lps, state))
     return "ok", "", None
+
+
+def _lp_engine(structure, opt, deadline, final):
+    """The unit-free LP search on the complementarity gap (:mod:`.engine`), first: its
+    certified state (checked in the user's units) joins the archive, so the least of it
+    and the GA's wins. A failure of the engine is not fatal: the GA still runs."""
+    from .engine import Deadline as EngineDeadline
+    from .engine import GapSearch
+    left = deadline.left()
+    try:
+        engine = GapSearch(structure, EngineDeadline(None if left == np.inf else max(left, 1e-3),
+                                                     stop=deadline.expired), seed=opt.seed)
+        result = engine.run(explore=True)
+    except (ArithmeticError, ValueError, AssertionError, RuntimeError, np.linalg.LinAlgError):
+        return
+    if result.best is not None and result.status == "certified":
+        result.best.source = "lp engine"
+        final.add(result.best)
 
 
 def _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time):

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""How the LP search engine (lamodel/gapsearch.py) scales: issue 10's benchmark table.
+
+    python benchmarks/scale.py                               # everything, 60 s budget a case
+    python benchmarks/scale.py --cases bond10,bond40 --budget 60
+    python benchmarks/scale.py --cases wall33,wall55,door1 --budget 0   # default stopping rule
+
+Cases: ``wall33``/``wall55`` (the seed's Table 1), ``bondC`` (running bond of C courses of
+25 blocks: courses alternate, from the bottom, 1/2 + 24 + 1/2 and 25 full blocks, as the
+seed's panels), and ``doorK`` (walls with a door and windows, :func:`opening_wall`). Each
+case runs in its own process (peak memory is that process's ru_maxrss), timed from the
+engine's construction. ``--budget S`` is the time limit; 0 means no limit (the engine's
+own stopping rule). Prints one row per case and the growth exponent of the time to the
+first certificate against the number of blocks (least squares in log-log).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing as mp
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+
+# ------------------------------------------------------------------ instances
+def _course(offset, width, holes):
+    """Block lengths of one course (units of a full block) from 0 to ``width``.
+
+    Joints at ``offset + k``; ``holes`` are (x0, x1, kind): 'gap' leaves [x0, x1] empty,
+    'lintel' puts one block over [x0, x1]. Negative lengths are gaps (running_bond_wall).
+    """
+    cuts = {0.0, float(width)} | {offset + k for k in range(int(width) + 1) if 0 < offset + k < width}
+    for x0, x1, _ in holes:
+        cuts = {c for c in cuts if not x0 < c < x1} | {x0, x1}
+    cuts = sorted(cuts)
+    out = []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        gap = any(kind == "gap" and x0 <= a and b <= x1 for x0, x1, kind in holes)
+        out.append(-(b - a) if gap else (b - a))
+    return out
+
+
+def opening_wall(courses=12, width=12, openings=((2, 4, 0, 7), (7, 9, 3, 8)), name="door",
+                 mu=0.65):
+    """A running-bond wall (4 x 1.75 blocks, weight 1, unit horizontal live load, mu 0.65, as
+    the seed's panels) with rectangular openings in the style of Ferris & Tin-Loi's and
+    Gilbert et al.'s (2006) walls: each opening (x0, x1, c0, c1) is [x0, x1] (full-block
+    units) over courses c0 .. c1 - 1 (a door when c0 = 0), with one lintel block over
+    [x0 - 1/2, x1 + 1/2] in course c1."""
+    from lamodel.geometry import running_bond_wall
+    rows = []
+    for r in range(courses):
+        holes = []
+        for x0, x1, c0, c1 in openings:
+            if c0 <= r < c1:
+                holes.append((float(x0), float(x1), "gap"))
+            elif r == c1:
+                holes.append((x0 - 0.5, x1 + 0.5, "lintel"))
+        rows.append(_course(0.5 if r % 2 == 0 else 0.0, width, holes))
+    return running_bond_wall(rows, name=name, mu=mu)
+
+
+OPENINGS = {
+    # ~50 blocks: one door
+    "door1": dict(courses=6, width=8, openings=((3, 5, 0, 4),)),
+    # ~146 blocks: a door and a window
+    "door2": dict(courses=12, width=12, openings=((2, 4, 0, 7), (7, 9, 3, 8))),
+    # ~290 blocks: a door and two windows, two storeys of windows
+    "door3": dict(courses=16, width=20, openings=((3, 5, 0, 7), (9, 11, 3, 7), (15, 17, 3, 7),
+                                                  (9, 11, 10, 14), (15, 17, 10, 14))),
+}
+
+
+def build(case: str):
+    from lamodel.geometry import running_bond_wall, seed_wall
+from lamodel.io.jsonspec import structure_from_json
+    if case in ("wall33", "wall55"):
+        return structure_from_json(seed_wall(6 if case == "wall33" else 10))
+    if case.startswith("bond"):
+        c = int(case[4:])
+        rows = [[0.5] + [1] * 24 + [0.5] if r % 2 == 0 else [1] * 25 for r in range(c)]
+        return structure_from_json(running_bond_wall(rows, name=case))
+    if case in OPENINGS:
+        return structure_from_json(opening_wall(name=case, **OPENINGS[case]))
+    raise SystemExit(f"unknown case '{case}'")
+
+
+# ------------------------------------------------------------------------ runs
+def run_case(case, budget, seed, queue):
+    from lamodel.search.engine import GapSearch, Deadline
+    s = build(case)
+    t0 = time.perf_counter()
+    eng = GapSearch(s, Deadline(budget if budget > 0 else None), seed=seed)
+    t_build = time.perf_counter() - t0
+    res = eng.run()
+    row = dict(case=case, blocks=s.n_blocks, contacts=s.n_contacts, status=res.status,
+               assoc=res.associative, t_assoc=eng.phases.get("associative", np.nan) + t_build,
+               first=res.first_alpha, t_first=res.first_time, best=res.alpha, t_best=res.history[-1][0]
+               if res.history else np.nan, total=res.seconds, lps=res.n_lps,
+               phases={k: round(v, 2) for k, v in res.phases.items()},
+               rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+               residual=max(res.best.residual.values()) if res.best else np.nan,
+               interrupted=res.interrupted)
+    queue.put(row)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cases", default="wall33,wall55,door1,door2,door3,bond10,bond20,bond40,bond80")
+    ap.add_argument("--budget", type=float, default=60.0, help="time limit per case (s); 0: none")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--json", help="append the rows to this JSON-lines file")
+    a = ap.parse_args(argv)
+    ctx = mp.get_context("fork")
+    rows = []
+    head = (f"{'case':8} {'blocks':>6} {'cont':>5} {'assoc':>9} {'t_as':>6} {'first':>9} {'t_1st':>7} "
+            f"{'best':>9} {'t_best':>7} {'total':>7} {'LPs':>5} {'MB':>6}  phases (s)")
+    print(head, flush=True)
+    for case in a.cases.split(","):
+        q = ctx.Queue()
+        p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q))
+        p.start()
+        row = q.get()
+        p.join()
+        rows.append(row)
+        print(f"{row['case']:8} {row['blocks']:6d} {row['contacts']:5d} {row['assoc']:9.6f} {row['t_assoc']:6.2f} "
+              f"{row['first']:9.6f} {row['t_first']:7.2f} {row['best']:9.6f} {row['t_best']:7.2f} "
+              f"{row['total']:7.2f} {row['lps']:5d} {row['rss_mb']:6.0f}  {row['phases']}"
+              f"  [{row['status']}{', stopped' if row['interrupted'] else ''}]", flush=True)
+        if a.json:
+            with open(a.json, "a") as f:
+                f.write(json.dumps(row, default=float) + "\n")
+    pts = [(r["blocks"], r["t_first"]) for r in rows if r["case"].startswith("bond") and np.isfinite(r["t_first"])]
+    if len(pts) >= 2:
+        x, y = np.log([p[0] for p in pts]), np.log([p[1] for p in pts])
+        k = np.polyfit(x, y, 1)[0]
+        print(f"growth: time to the first certificate ~ blocks^{k:.2f} (running-bond walls)")
+    pts = [(r["blocks"], r["t_assoc"]) for r in rows if r["case"].startswith("bond")]
+    if len(pts) >= 2:
+        k = np.polyfit(np.log([p[0] for p in pts]), np.log([p[1] for p in pts]), 1)[0]
+        print(f"growth: associative LP ~ blocks^{k:.2f}")
+
+
+if __name__ == "__main__":
+    main()

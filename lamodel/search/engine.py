@@ -1,0 +1,963 @@
+"""The certified search at scale: LPs on the complementarity gap of eq. (5) (issue 10).
+
+Every step is a linear program solved by HiGHS and warm-started:
+
+* **Statics** in friction-cone generator form: per contact four unknowns lambda >= 0, the
+  forces ``-n +/- mu t`` at its two end points (:func:`generator_matrix`), so that the
+  admissible set S of eq. (1)-(4) is ``A T lambda + alpha fbar = -f0``, ``lambda >= 0``,
+  ``alpha >= 0``: only 3 nb rows. A yield row of eq. (4) is held at equality exactly when
+  the two lambdas of its slack are zero.
+* **Mechanism**: the fictitious cohesive LP of the seed (``|V| <= c`` with ``c = -mu N``,
+  normal force >= 0 at both ends of a contact, max alpha). Its duals are the mechanism of
+  least alpha_K for that N; they are recomputed exactly from HiGHS's final basis.
+* **Gap step**: for a mechanism (u, xi), ``alpha_K(N) - alpha = w^T lambda >= 0`` with
+  ``w = -(Y T)^T xi``; min ``alpha + rho w^T lambda`` over S pulls the statics towards a
+  collapse state.
+* **Certification**: with the rows a mechanism flows on held at equality, min alpha over S.
+  Feasible means an exact collapse state (the seed's second theorem): statics admissible,
+  mechanism compatible with ``fbar^T u = 1``, flow only on held rows, ``alpha = alpha_K``.
+
+The search alternates the two from the associative solution, descends from every
+certified state, and explores perturbed cohesions ``c exp(sigma z)`` and the seed's
+fixed-point chain until its budget or its stopping rule. Numbers are non-dimensional
+inside (forces by the dead load, lengths by the structure's size); states come back in
+the user's units, each re-checked by :func:`lamodel.search.certify.residuals`.
+"""
+from __future__ import annotations
+
+import signal
+import threading
+import time
+from dataclasses import dataclass, field
+
+import highspy
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from ..formulation.matrices import equilibrium_matrix, flow_matrix, load_vectors, yield_matrix
+from ..structure import Structure
+from .certify import RESIDUAL_TOLERANCE, residuals
+from .state import CollapseState
+
+INF = highspy.kHighsInf
+#: HiGHS feasibility tolerances (non-dimensional problem; see :func:`_scales`).
+LP_TOLERANCE = 1e-9
+#: LPs with more columns than this start with the interior point method plus crossover.
+IPM_COLUMNS = 1500
+#: A gap below GAP_CERTIFY * max(1, alpha) is worth a certification LP.
+GAP_CERTIFY = 1e-6
+#: rho ladders of the gap step: the main one, and the low one tried when the main one stalls.
+RHO_MAIN = (1e3, 1e4)
+RHO_LOW = (2.0, 10.0, 100.0, 1e3)
+#: Below this gap (times max(1, alpha)) a mechanism step forbids flow on slack rows.
+GAP_FORBID = 1e-6
+#: Flows below this fraction of the largest are zero (they cost compatibility <= this).
+FLOW_TOL = 1e-9
+#: Relative thresholds on slack used to call a row active when restricting mechanisms.
+ACTIVE_TOLS = (1e-9, 1e-7, 1e-5, 1e-3)
+#: Time cap of a certification LP: this many typical solve times, at least CERTIFY_CAP_MIN s.
+CERTIFY_CAP_FACTOR = 5.0
+CERTIFY_CAP_MIN = 1.0
+#: Pressure step: how many of the most pushing held rows are tried one by one.
+PRESSURE_SINGLE = 8
+
+
+class Stopped(Exception):
+    """The deadline passed or the stop predicate fired (inside or between LPs)."""
+
+
+class Deadline:
+    """A time limit and/or a stop predicate, checked between LPs and inside HiGHS.
+
+    ``stop`` is any callable returning True to stop (a threading.Event's ``is_set`` works);
+    ``time_limit`` is in seconds from construction.
+    """
+
+    def __init__(self, time_limit: float | None = None, stop=None):
+        self.t0 = time.perf_counter()
+        self.end = None if time_limit is None else self.t0 + float(time_limit)
+        self.stop = stop
+        self.flag = False  # set by a signal handler (Ctrl-C)
+
+    def remaining(self) -> float:
+        return INF if self.end is None else self.end - time.perf_counter()
+
+    def expired(self) -> bool:
+        if self.flag or (self.stop is not None and self.stop()):
+            return True
+        return self.end is not None and time.perf_counter() >= self.end
+
+    def check(self):
+        if self.expired():
+            raise Stopped()
+
+
+# ======================================================================= the LP algebra
+def generator_matrix(structure: Structure) -> sp.csr_matrix:
+    """T (3 nc x 4 nc): the four friction-cone generators of a contact as (N, V, M).
+
+    Generator ``(j, +/-)`` is the unit-compression force ``-n +/- mu t`` at end point j of
+    the contact (j = 1: centre + d t; j = 2: centre - d t). Moved to the contact centre
+    it is ``N = -1``, ``V = +/- mu`` and the couple ``(+/- d t) x (-n) = +/- d``. Columns
+    are ordered 1+, 1-, 2+, 2- contact after contact. With it, the admissible set of
+    eq. (1)-(4) is ``A T lambda + alpha fbar = -f0`` with lambda >= 0 (every (N, V, M) of
+    the cone is such a combination and vice versa).
+    """
+    nc = structure.n_contacts
+    mu, d = structure.mu, structure.d
+    k = np.arange(nc)
+    rows, cols, vals = [], [], []
+    for g, (sv, sm) in enumerate(((1, 1), (-1, 1), (1, -1), (-1, -1))):
+        col = 4 * k + g
+        rows += [k, nc + k, 2 * nc + k]
+        cols += [col, col, col]
+        vals += [-np.ones(nc), sv * mu, sm * d]
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * nc, 4 * nc))
+
+
+def cohesive_matrix(structure: Structure) -> sp.csr_matrix:
+    """Tc (3 nc x 3 nc): columns (n1, n2, V) per contact for the fictitious cohesive LP.
+
+    n1, n2 >= 0 are the compressions at the two end points (``N = -(n1 + n2)``,
+    ``M = d (n1 - n2)``: the hinge rows of eq. (4) as signs), V the shear, bounded by the
+    cohesion. Columns ordered n1, n2, V contact after contact.
+    """
+    nc = structure.n_contacts
+    d = structure.d
+    k = np.arange(nc)
+    rows = [k, 2 * nc + k, k, 2 * nc + k, nc + k]
+    cols = [3 * k, 3 * k, 3 * k + 1, 3 * k + 1, 3 * k + 2]
+    vals = [-np.ones(nc), d, -np.ones(nc), -d, np.ones(nc)]
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * nc, 3 * nc))
+
+
+def _scales(structure: Structure):
+    """(force, length) units of the non-dimensional problem.
+
+    Forces by the mean dead load of a block (the total dead load over the number of
+    blocks; the largest live load if there is no dead load): block loads stay O(1) at
+    every size, so HiGHS's absolute tolerances mean the same thing on 30 and 3000 blocks.
+    Lengths by the size of the structure (diagonal of its bounding box).
+    """
+    dead = np.hypot(structure.dead[:, 0], structure.dead[:, 1])
+    F = dead.sum() / structure.n_blocks
+    if not F > 0:
+        F = float(np.hypot(structure.live[:, 0], structure.live[:, 1]).max())
+    return float(F), float(structure.size())
+
+
+def _scaled(structure: Structure, F: float, L: float) -> Structure:
+    return Structure(name=structure.name, blocks=structure.blocks, centroid=structure.centroid / L,
+                     dead=structure.dead / F, live=structure.live / F, supports=structure.supports,
+                     contacts=structure.contacts, block_a=structure.block_a, block_b=structure.block_b,
+                     centre=structure.centre / L, normal=structure.normal, d=structure.d / L, mu=structure.mu,
+                     dead_m=structure.dead_m / (F * L), live_m=structure.live_m / (F * L))
+
+
+class Checker:
+    """What :func:`lamodel.search.certify.residuals` needs, straight from a Structure's matrices."""
+
+    def __init__(self, structure: Structure):
+        self.structure = structure
+        self.nc = structure.n_contacts
+        self.A = equilibrium_matrix(structure)
+        self.f0, self.fbar = load_vectors(structure)
+        self.Y = yield_matrix(structure)
+        self.G = flow_matrix(structure)
+
+    def slack(self, x):
+        return -(self.Y @ x[:3 * self.nc])
+
+    def kinematic_multiplier(self, u, xi, N):
+        """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5)."""
+        nc = self.nc
+        return float(-self.f0 @ u - np.sum(self.structure.mu * N * (xi[:nc] + xi[nc:2 * nc])))
+
+    def residuals(self, state: CollapseState) -> dict:
+        return residuals(self, state.N, state.V, state.M, state.alpha, state.u, state.xi)
+
+
+# ============================================================================ HiGHS
+class _LP:
+    """min c^T x, A x = b, lo <= x <= hi, warm-started, interruptible, with exact duals."""
+
+    def __init__(self, A, b, cost, lo, hi, deadline: Deadline, name=""):
+        self.A = sp.csc_matrix(A)
+        self.m, self.n = self.A.shape
+        self.b = np.asarray(b, float)
+        self.cost = np.asarray(cost, float).copy()
+        self.lo, self.hi = np.asarray(lo, float).copy(), np.asarray(hi, float).copy()
+        self.deadline = deadline
+        self.name = name
+        h = self.h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        h.setOptionValue("primal_feasibility_tolerance", LP_TOLERANCE)
+        h.setOptionValue("dual_feasibility_tolerance", LP_TOLERANCE)
+        lp = highspy.HighsLp()
+        lp.num_col_, lp.num_row_ = self.n, self.m
+        lp.col_cost_, lp.col_lower_, lp.col_upper_ = self.cost, self.lo, self.hi
+        lp.row_lower_ = lp.row_upper_ = self.b
+        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+        lp.a_matrix_.start_ = self.A.indptr.astype(np.int32)
+        lp.a_matrix_.index_ = self.A.indices.astype(np.int32)
+        lp.a_matrix_.value_ = self.A.data.astype(float)
+        h.passModel(lp)
+        # HiGHS calls these inside its iterations: the deadline and Ctrl-C reach into a solve.
+        h.cbSimplexInterrupt.subscribe(self._interrupt)
+        h.cbIpmInterrupt.subscribe(self._interrupt)
+        self.cold = True
+        self.n_solves = 0
+        self.seconds = 0.0
+        self.trace = None  # a print-like function to log every solve
+        self.warm_seconds = None  # running mean of the solve times
+
+    def _interrupt(self, e):
+        if self.deadline.expired():
+            e.interrupt()
+
+    def set_cost(self, cost):
+        cost = np.asarray(cost, float)
+        changed = np.flatnonzero(cost != self.cost)
+        if changed.size:
+            self.h.changeColsCost(changed.size, changed.astype(np.int32), cost[changed])
+            self.cost = cost.copy()
+
+    def set_bounds(self, lo, hi):
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        changed = np.flatnonzero((lo != self.lo) | (hi != self.hi))
+        if changed.size:
+            self.h.changeColsBounds(changed.size, changed.astype(np.int32), lo[changed], hi[changed])
+            self.lo, self.hi = lo.copy(), hi.copy()
+
+    def solve(self, cap: float | None = None) -> str:
+        """'optimal', 'infeasible', 'unbounded' or another HiGHS status word; raises Stopped.
+
+        ``cap`` (s) bounds this solve alone: past it the status is 'time limit' and the
+        search goes on (a certification LP that would take minutes is not worth it).
+        """
+        self.deadline.check()
+        h = self.h
+        start = h.getBasis() if cap is not None and not self.cold else None
+        if start is None:
+            cap = None
+        left = self.deadline.remaining()
+        limit = left if cap is None else min(left, cap)
+        # HiGHS compares time_limit with the run time accumulated over all runs of this object
+        h.setOptionValue("time_limit", h.getRunTime() + float(max(limit, 1e-3)) if limit < INF else INF)
+        t = time.perf_counter()
+        if self.cold and self.n > IPM_COLUMNS:
+            # Cold simplex on a large degenerate statics LP takes minutes; IPM + crossover
+            # takes seconds and leaves a basis for the warm simplex re-solves. At HiGHS's
+            # default tolerances: at 1e-9 IPX's crossover is "imprecise" on large models
+            # (2040 blocks: dual infeasibility 6e-6) and HiGHS falls back to a dual simplex
+            # clean-up of 44,000 iterations (150 s); the warm primal simplex below reaches
+            # 1e-9 from the crossover basis in a few iterations.
+            for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
+                h.setOptionValue(option, 1e-7)
+            h.setOptionValue("solver", "ipm")
+            h.setOptionValue("run_crossover", "on")
+            h.run()
+            for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
+                h.setOptionValue(option, LP_TOLERANCE)
+            if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
+                h.setOptionValue("solver", "simplex")
+                h.setOptionValue("simplex_strategy", 4)
+                h.run()
+        else:
+            h.setOptionValue("solver", "simplex")
+            # Warm re-solves: primal simplex (the dual was 10-100x slower on these LPs).
+            h.setOptionValue("simplex_strategy", 1 if self.cold else 4)
+            h.run()
+        was_cold, self.cold = self.cold, False
+        self.n_solves += 1
+        dt = time.perf_counter() - t
+        self.seconds += dt
+        st = h.getModelStatus()
+        if self.trace is not None:
+            info = h.getInfo()
+            self.trace(f"    LP {self.name:9s} {dt:7.2f} s  {info.simplex_iteration_count:6d} it  "
+                       f"{h.modelStatusToString(st)}")
+        S = highspy.HighsModelStatus
+        if st in (S.kInterrupt, S.kTimeLimit) or self.deadline.expired():
+            if self.deadline.expired() or st == S.kInterrupt or cap is None:
+                raise Stopped()
+            h.setBasis(start)  # back to the basis the capped solve started from
+            return "time limit"
+        if not was_cold:
+            self.warm_seconds = dt if self.warm_seconds is None else 0.8 * self.warm_seconds + 0.2 * dt
+        if st == S.kOptimal:
+            return "optimal"
+        if st == S.kInfeasible:
+            return "infeasible"
+        if st == S.kUnbounded:
+            return "unbounded"
+        if st == S.kUnboundedOrInfeasible:
+            # A warm basis can leave it undecided: a cold re-solve tells the two apart.
+            h.clearSolver()
+            h.setOptionValue("solver", "simplex")
+            h.setOptionValue("simplex_strategy", 1)
+            h.setOptionValue("presolve", "off")
+            h.run()
+            h.setOptionValue("presolve", "choose")
+            st = h.getModelStatus()
+            if st in (S.kInterrupt, S.kTimeLimit):
+                raise Stopped()
+            return {S.kOptimal: "optimal", S.kInfeasible: "infeasible", S.kUnbounded: "unbounded"}.get(
+                st, h.modelStatusToString(st))
+        return h.modelStatusToString(st)
+
+    def x(self) -> np.ndarray:
+        return np.array(self.h.getSolution().col_value)
+
+    def exact_duals(self):
+        """(y, z): row duals and reduced costs from the final basis, by a sparse LU solve.
+
+        HiGHS's own duals are exact only to its tolerances; solving ``B^T y = c_B`` on the
+        basic columns (and unit columns for basic rows, whose duals are 0) makes
+        ``z = c - A^T y`` vanish on basic columns to round-off.
+        """
+        basis = self.h.getBasis()
+        B = highspy.HighsBasisStatus.kBasic
+        cols = np.flatnonzero(np.fromiter((s == B for s in basis.col_status), bool, self.n))
+        rows = np.flatnonzero(np.fromiter((s == B for s in basis.row_status), bool, self.m))
+        if cols.size + rows.size != self.m:
+            sol = self.h.getSolution()
+            y = np.array(sol.row_dual)
+            return y, self.cost - self.A.T @ y
+        Bm = sp.hstack([self.A[:, cols], sp.csc_matrix((np.ones(rows.size), (rows, np.arange(rows.size))),
+                                                       shape=(self.m, rows.size))]).tocsc()
+        rhs = np.concatenate([self.cost[cols], np.zeros(rows.size)])
+        try:
+            y = splu(Bm.T.tocsc()).solve(rhs)
+        except RuntimeError:  # singular factor: keep HiGHS's duals
+            y = np.array(self.h.getSolution().row_dual)
+        return y, self.cost - self.A.T @ y
+
+
+# ========================================================================== results
+@dataclass
+class SearchResult:
+    """Outcome of :func:`search`. ``best`` is certified (or None); alphas are multipliers."""
+
+    status: str                 # 'certified', 'unstable', 'no collapse', 'none certified'
+    best: CollapseState | None
+    associative: float          # associative multiplier (upper bound), inf if unbounded
+    message: str = ""
+    interrupted: bool = False   # stopped by the time limit or the stop predicate / Ctrl-C
+    first_alpha: float = np.nan
+    first_time: float = np.nan
+    history: list = field(default_factory=list)   # (seconds, alpha, source) of each improvement
+    phases: dict = field(default_factory=dict)     # seconds per phase
+    n_lps: int = 0
+    seconds: float = 0.0
+
+    @property
+    def alpha(self) -> float:
+        return np.nan if self.best is None else self.best.alpha
+
+
+# =========================================================================== engine
+class GapSearch:
+    """The LP engine on one structure; see the module doc and :func:`search`.
+
+    ``deadline``: a :class:`Deadline` (time limit / stop predicate); ``on_certified(state)``
+    is called with every new best certified state (user units); ``seed`` drives the
+    random perturbations. Methods raise :class:`Stopped` when the deadline fires.
+    """
+
+    def __init__(self, structure: Structure, deadline: Deadline | None = None, on_certified=None,
+                 seed: int = 0, verbose: bool = False):
+        self.user = structure
+        self.deadline = deadline or Deadline()
+        self.on_certified = on_certified
+        self.rng = np.random.default_rng(seed)
+        self.verbose = verbose
+        self.t0 = time.perf_counter()
+        self.F, self.L = _scales(structure)
+        s = self.s = _scaled(structure, self.F, self.L)
+        self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
+        self.A = equilibrium_matrix(s)
+        self.f0, self.fbar = load_vectors(s)
+        self.Y = yield_matrix(s)
+        self.G = flow_matrix(s)
+        self.mu = s.mu
+        self.check_scaled = Checker(s)
+        self.check_user = Checker(structure)
+        # --- statics in generator form: columns lambda (4 nc), alpha
+        self.T = generator_matrix(s)
+        self.Slam = (-(self.Y @ self.T)).tocsr()  # yield slacks = Slam @ lambda (>= 0)
+        assert self.Slam.min() >= 0
+        # held row r <-> the lambdas of its slack fixed at 0 (two per row)
+        self.held_lams = [self.Slam.getrow(r).indices for r in range(4 * nc)]
+        self.row_of_pair = sp.csr_matrix((np.ones(self.Slam.nnz), self.Slam.nonzero()), shape=self.Slam.shape)
+        Ag = sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)]).tocsc()
+        self.nl = 4 * nc
+        lo = np.zeros(self.nl + 1)
+        hi = np.full(self.nl + 1, INF)
+        self.stat = _LP(Ag, -self.f0, np.zeros(self.nl + 1), lo, hi, self.deadline, "statics")
+        # --- fictitious cohesive LP: columns (n1, n2, V) per contact, alpha
+        self.Tc = cohesive_matrix(s)
+        Ac = sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)]).tocsc()
+        # Flow rows of the cohesive system in its own columns: one nonzero per row.
+        self.Gc = (self.G @ self.Tc).tocsr()
+        self.Gc.eliminate_zeros()
+        assert np.all(np.diff(self.Gc.indptr) == 1)
+        self.gc_col = self.Gc.indices.copy()   # column of each flow row
+        self.gc_val = self.Gc.data.copy()      # its coefficient
+        self.obj_scale = float(nb)  # objective scaled: duals (the mechanism) well above HiGHS's tolerance
+        cost = np.zeros(3 * nc + 1)
+        cost[-1] = -self.obj_scale
+        clo = np.zeros(3 * nc + 1)
+        chi = np.full(3 * nc + 1, INF)
+        self.coh = _LP(Ac, -self.f0, cost, clo, chi, self.deadline, "cohesive")
+        # Restricted mechanisms (flow allowed on some rows only) get their own copy: switching
+        # one LP between the two kinds cost 10-17 s a re-solve at 2040 blocks.
+        self.coh_r = _LP(Ac, -self.f0, cost, clo, chi, self.deadline, "cohesive-r")
+        if verbose > 1:
+            self.stat.trace = self.coh.trace = self.coh_r.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
+        self.phases = {}
+        self.best: CollapseState | None = None      # scaled units
+        self.best_user: CollapseState | None = None
+        self.first = None
+        self.history = []
+        self.N_assoc = None
+
+    # ------------------------------------------------------------------ bookkeeping
+    def _phase(self, name, t):
+        self.phases[name] = self.phases.get(name, 0.0) + time.perf_counter() - t
+
+    def elapsed(self):
+        return time.perf_counter() - self.t0
+
+    def n_lps(self):
+        return self.stat.n_solves + self.coh.n_solves + self.coh_r.n_solves
+
+    # ------------------------------------------------------------------- the pieces
+    def forces(self, lam):
+        return self.T @ lam[:self.nl]
+
+    def N_of(self, lam):
+        return (self.T @ lam[:self.nl])[:self.nc]
+
+    def statics(self, cost_lam=None, held=None, maximize=False, cap=None, alpha_cost=1.0):
+        """Optimise over S in generator form: min (max) alpha_cost alpha + cost_lam^T lambda
+        with the yield rows ``held`` (bool, 4 nc) at equality. Returns (status, x)."""
+        cost = np.zeros(self.nl + 1)
+        cost[-1] = -alpha_cost if maximize else alpha_cost
+        if cost_lam is not None:
+            cost[:self.nl] = cost_lam
+        hi = np.full(self.nl + 1, INF)
+        if held is not None and held.any():
+            hi[np.concatenate([self.held_lams[r] for r in np.flatnonzero(held)])] = 0.0
+        self.stat.set_cost(cost)
+        self.stat.set_bounds(np.zeros(self.nl + 1), hi)
+        status = self.stat.solve(cap)
+        if status != "optimal":
+            return status, None
+        x = np.maximum(self.stat.x(), 0.0)
+        return status, x
+
+    def mechanism(self, c, allowed=None):
+        """The cohesive LP for cohesions c (>= 0), flow allowed on rows ``allowed`` only.
+
+        Returns (status, alpha_as, x, u, xi): its statics x (n1, n2, V, alpha) and its
+        mechanism (u, xi) of least alpha_K, exact from the final basis, fbar^T u = 1.
+        """
+        nc = self.nc
+        c = np.maximum(np.asarray(c, float), 0.0)
+        lo = np.zeros(3 * nc + 1)
+        hi = np.full(3 * nc + 1, INF)
+        lo[2::3][:nc], hi[2::3][:nc] = -c, c
+        if allowed is not None:
+            # a row that may not flow is a constraint dropped from the primal
+            off = np.flatnonzero(~np.asarray(allowed, bool))
+            kind, col = off // nc, self.gc_col[off]
+            hi[col[kind == 0]] = INF       # slide+: V <= c
+            lo[col[kind == 1]] = -INF      # slide-: V >= -c
+            lo[col[kind >= 2]] = -INF      # hinge: compression >= 0 at that end
+        lp = self.coh if allowed is None else self.coh_r
+        if lp.cold and not self.coh.cold:
+            lp.h.setBasis(self.coh.h.getBasis())  # start from the unrestricted one's basis
+            lp.cold = False
+        lp.set_bounds(lo, hi)
+        status = lp.solve()
+        if status != "optimal":
+            return status, np.nan, None, None, None
+        x = lp.x()
+        y, z = lp.exact_duals()
+        u = -y / self.obj_scale
+        fu = self.fbar @ u
+        if not fu > 0:
+            return "degenerate", np.nan, None, None, None
+        u = u / fu
+        z = z / (self.obj_scale * fu)
+        # compatibility in the cohesive columns: Gc^T xi = -(A Tc)^T u = -z on the (n, V) columns
+        xi = np.maximum(-z[self.gc_col] / self.gc_val, 0.0)
+        if allowed is not None:
+            xi[~allowed] = 0.0
+        top = xi.max() if xi.size else 0.0
+        xi[xi <= FLOW_TOL * top] = 0.0
+        return status, float(x[-1]), x, u, xi
+
+    def alpha_K(self, u, xi, N):
+        nc = self.nc
+        return float(-self.f0 @ u - np.sum(self.mu * N * (xi[:nc] + xi[nc:2 * nc])))
+
+    def gap_weights(self, xi):
+        """w with w^T lambda = alpha_K(N(lambda)) - alpha = slack^T xi (virtual work)."""
+        return self.Slam.T @ xi
+
+    # ---------------------------------------------------------------- certification
+    def certify(self, u, xi, source):
+        """Statics with the rows xi flows on held, min alpha: an exact collapse state or None."""
+        flow = xi > 0
+        if not flow.any():
+            return None
+        # Holding the rows by bounds makes the warm basis infeasible, and the primal phase 1
+        # took minutes at 2040 blocks. Instead: (1) min w^T lambda, the gap of this
+        # mechanism, from the current (feasible) basis; zero means the rows can be held;
+        # (2) then the held lambdas are already zero, so bounding them keeps the basis
+        # feasible, and min alpha is a warm primal solve. Each is capped at a few typical
+        # solve times: a certification that hard is not worth it now.
+        cap = max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
+        status, x = self.statics(cost_lam=self.gap_weights(xi), alpha_cost=0.0, cap=cap)
+        if status != "optimal" or self.gap_weights(xi) @ x[:self.nl] > LP_TOLERANCE * max(1.0, x[-1]):
+            return None
+        status, x = self.statics(held=flow, cap=cap)
+        if status != "optimal":
+            return None
+        return self._accept(x, u, xi, flow, source)
+
+    def _accept(self, x, u, xi, flow, source):
+        s = self.forces(x)
+        nc = self.nc
+        state = CollapseState(alpha=float(x[-1]), N=s[:nc].copy(), V=s[nc:2 * nc].copy(), M=s[2 * nc:].copy(),
+                              u=u.copy(), xi=np.where(flow, xi, 0.0), flow=flow.copy(), source=source)
+        state.residual = self.check_scaled.residuals(state)
+        if max(state.residual.values()) > RESIDUAL_TOLERANCE:
+            return None
+        state.lam = x  # kept for warm descents (not part of the user state)
+        self._record(state)
+        return state
+
+    def _record(self, state):
+        a = state.alpha
+        if self.best is not None and a >= self.best.alpha - 1e-12 * max(1.0, abs(a)):
+            return
+        user = self.to_user(state)
+        if max(user.residual.values()) > RESIDUAL_TOLERANCE:
+            return
+        self.best, self.best_user = state, user
+        t = self.elapsed()
+        if self.first is None:
+            self.first = (a, t)
+        self.history.append((t, a, state.source))
+        if self.verbose:
+            print(f"  {t:8.2f} s  alpha {a:.6f}  {state.source}", flush=True)
+        if self.on_certified is not None:
+            self.on_certified(user)
+
+    def to_user(self, st: CollapseState) -> CollapseState:
+        """A scaled state in the user's units (re-checked there)."""
+        F, L, nc = self.F, self.L, self.nc
+        u = st.u.copy()
+        u[0::3] *= L
+        u[1::3] *= L
+        u /= F * L          # fbar^T u = 1 in user units
+        xi = st.xi.copy()
+        xi[:2 * nc] *= L    # slips are lengths, hinge flows rotations
+        xi /= F * L
+        out = CollapseState(alpha=st.alpha, N=st.N * F, V=st.V * F, M=st.M * F * L, u=u, xi=xi,
+                            flow=st.flow.copy(), source=st.source)
+        out.residual = self.check_user.residuals(out)
+        return out
+
+    # ------------------------------------------------------------------- descents
+    def active_rows(self, lam, tol):
+        slack = self.Slam @ lam[:self.nl]
+        return slack <= tol * max(1.0, np.abs(lam).max())
+
+    def descend(self, state, max_steps=30):
+        """From a certified state: mechanisms restricted to its active rows, then a pressure
+        step (release held rows whose lambdas the certification LP would like positive)."""
+        t = time.perf_counter()
+        try:
+            for _ in range(max_steps):
+                nxt = self._descend_step(state)
+                if nxt is None or nxt.alpha >= state.alpha - 1e-10 * max(1.0, state.alpha):
+                    nxt = self._pressure_step(state)
+                if nxt is None or nxt.alpha >= state.alpha - 1e-10 * max(1.0, state.alpha):
+                    break
+                state = nxt
+        finally:
+            self._phase("descend", t)
+        return state
+
+    def _descend_step(self, state):
+        best = None
+        c = -self.mu * state.N
+        for tol in ACTIVE_TOLS[:2]:
+            allowed = self.active_rows(state.lam, tol)
+            status, _, _, u, xi = self.mechanism(c, allowed)
+            if status != "optimal":
+                continue
+            cand = self.certify(u, xi, state.source + "+descend")
+            if cand is not None and (best is None or cand.alpha < best.alpha):
+                best = cand
+            if best is not None and best.alpha < state.alpha - 1e-10:
+                break
+        return best
+
+    def _pressure_step(self, state):
+        """Reduced costs of the held lambdas (min alpha with the flow rows held) say which
+        held rows push alpha up; let the most pushing ones go (not allowed to flow)."""
+        status, x = self.statics(held=state.flow)
+        if status != "optimal":
+            return None
+        _, z = self.stat.exact_duals()
+        zl = z[:self.nl]
+        held_lams = np.zeros(self.nl, bool)
+        held_lams[np.concatenate([self.held_lams[r] for r in np.flatnonzero(state.flow)])] = True
+        push = np.where(held_lams & (zl < -1e-12), -zl, 0.0)
+        if not push.any():
+            return None
+        row_push = self.row_of_pair @ push  # per yield row: how much its lambdas push
+        row_push[~state.flow] = 0.0
+        order = np.argsort(-row_push)
+        order = order[row_push[order] > 0]
+        c = -self.mu * state.N
+        allowed0 = self.active_rows(state.lam, ACTIVE_TOLS[1])
+        best = None
+        # the most pushing rows one at a time, then the top ones together
+        trials = [order[i:i + 1] for i in range(min(PRESSURE_SINGLE, order.size))]
+        trials += [order[:n] for n in (2, 4, 8) if n <= order.size]
+        for rel in trials:
+            allowed = allowed0.copy()
+            allowed[rel] = False
+            status, _, _, u, xi = self.mechanism(c, allowed)
+            if status != "optimal":
+                continue
+            cand = self.certify(u, xi, state.source + "+pressure")
+            if cand is not None and (best is None or cand.alpha < best.alpha):
+                best = cand
+            if best is not None and best.alpha < state.alpha - 1e-10:
+                break
+        return best
+
+    # ------------------------------------------------------------------ alternation
+    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=200, forbid_slack=False):
+        """Mechanism step / gap step from the statics x until alpha + rho gap stops falling.
+
+        Certifies whenever the gap is small; returns the best certified state of the run
+        (or None) and the last statics.
+        """
+        t = time.perf_counter()
+        best = None
+        last_cert_key = None
+        try:
+            for rho in rhos:
+                obj_prev = INF
+                for _ in range(max_steps):
+                    alpha = float(x[-1])
+                    N = self.N_of(x)
+                    allowed = None
+                    if forbid_slack:
+                        allowed = self.active_rows(x, 1e-3)
+                    status, a_as, _, u, xi = self.mechanism(-self.mu * N, allowed)
+                    if status != "optimal":
+                        break
+                    gap = float(self.gap_weights(xi) @ x[:self.nl])
+                    tight = self.active_rows(x, ACTIVE_TOLS[0])
+                    slack_flow = (xi > 0) & ~tight
+                    if slack_flow.any() and gap <= GAP_FORBID * max(1.0, alpha):
+                        # Near convergence the least-alpha_K mechanism still flows, slightly,
+                        # on rows this statics keeps slack (2040 blocks: flows ~3e-7 of the
+                        # largest on heavily compressed rows hold the gap near 4e-8, and no
+                        # statics can hold those rows). Forbid them for this step.
+                        st2, _, _, u2, xi2 = self.mechanism(-self.mu * N, ~slack_flow)
+                        if st2 == "optimal":
+                            u, xi = u2, xi2
+                            slack_flow = (xi > 0) & ~tight
+                    step_gap = float(self.gap_weights(xi) @ x[:self.nl])
+                    if self.verbose > 1:
+                        print(f"{self.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
+                              f"{step_gap:.2e} slack flows {int(slack_flow.sum())}", flush=True)
+                    # With flows left on slack rows the certification's first LP (min gap of
+                    # this mechanism, capped) decides whether a statics can hold them all.
+                    if step_gap <= GAP_CERTIFY * max(1.0, alpha):
+                        key = (xi > 0).tobytes()
+                        if key != last_cert_key:
+                            last_cert_key = key
+                            st = self.certify(u, xi, source)
+                            if st is not None:
+                                st = self.descend(st)
+                                if best is None or st.alpha < best.alpha:
+                                    best = st
+                    obj = alpha + rho * gap
+                    if obj >= obj_prev - 1e-9 * max(1.0, abs(obj_prev)):
+                        break
+                    obj_prev = obj
+                    status, xn = self.statics(cost_lam=rho * self.gap_weights(xi))
+                    if status != "optimal":
+                        break
+                    x = xn
+        finally:
+            self._phase("alternate", t)
+        return best, x
+
+    # --------------------------------------------------------------- exploration
+    def chain(self, c, steps=6, source="chain"):
+        """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism."""
+        best = None
+        for _ in range(steps):
+            status, _, xc, u, xi = self.mechanism(c)
+            if status != "optimal":
+                break
+            st = self.certify(u, xi, source)
+            if st is not None:
+                st = self.descend(st)
+                if best is None or st.alpha < best.alpha:
+                    best = st
+            N = (self.Tc @ xc[:3 * self.nc])[:self.nc]
+            c_new = -self.mu * N
+            if np.allclose(c_new, c, rtol=1e-9, atol=1e-12):
+                break
+            c = c_new
+        return best
+
+    def perturbed(self, c, source="perturb"):
+        """Cohesions c: a mechanism, then the gap alternation from the best statics for it."""
+        status, _, _, u, xi = self.mechanism(c)
+        if status != "optimal":
+            return None
+        best = self.certify(u, xi, source)
+        if best is not None:
+            best = self.descend(best)
+        status, x = self.statics(cost_lam=RHO_MAIN[0] * self.gap_weights(xi))
+        if status == "optimal":
+            st, _ = self.alternate(x, source=source)
+            if st is not None and (best is None or st.alpha < best.alpha):
+                best = st
+        return best
+
+    def reference_N(self):
+        """Normal forces of the best certified state (else the associative ones)."""
+        if self.best is not None:
+            return self.best.N.copy()
+        return None if self.N_assoc is None else self.N_assoc.copy()
+
+    def evaluate(self, genome, reference_N=None, chain_steps=3):
+        """Fitness and local search for a GA whose genome is the vector of per-contact
+        log-perturbations z of the cohesions: c = -mu N_ref exp(z).
+
+        ``reference_N`` (scaled units, see :meth:`reference_N`) defaults to the one frozen at
+        the first call, so that a genome keeps its meaning during a GA run. From c: the
+        mechanism, the gap alternation and the seed's fixed-point chain, each certified
+        state descended. Returns the least certified alpha reached (inf if none); the
+        search's best (and ``on_certified``) follow. Raises Stopped at the deadline.
+        """
+        if reference_N is None:
+            if getattr(self, "_ref_N", None) is None:
+                self._ref_N = self.reference_N()
+            reference_N = self._ref_N
+        if reference_N is None:
+            return INF
+        c = -self.mu * reference_N * np.exp(np.asarray(genome, float))
+        best = self.perturbed(c, source="genome")
+        st = self.chain(c, steps=chain_steps, source="genome-chain")
+        if st is not None and (best is None or st.alpha < best.alpha):
+            best = st
+        return INF if best is None else best.alpha
+
+    # ---------------------------------------------------------------------- stalls
+    def rescue(self, x_assoc):
+        """When the main ladder certifies nothing: forbid flow on slack rows, a low rho
+        ladder from the associative state, certification from near-active rows."""
+        best = None
+        for kw in (dict(rhos=RHO_MAIN, forbid_slack=True), dict(rhos=RHO_LOW)):
+            st, x = self.alternate(x_assoc, source="rescue", **kw)
+            if st is not None and (best is None or st.alpha < best.alpha):
+                best = st
+            st = self.certify_near(x, "rescue-near")
+            if st is not None and (best is None or st.alpha < best.alpha):
+                best = st
+            if best is not None:
+                break
+        return best
+
+    def certify_near(self, x, source, first=False):
+        """Certification from the rows a statics holds nearly active, at several tolerances
+        (``first``: stop at the first tolerance that certifies)."""
+        best = None
+        c = -self.mu * self.N_of(x)
+        tried = set()
+        for tol in ACTIVE_TOLS:
+            allowed = self.active_rows(x, tol)
+            key = allowed.tobytes()
+            if key in tried or not allowed.any():
+                continue
+            tried.add(key)
+            status, _, _, u, xi = self.mechanism(c, allowed)
+            if status != "optimal":
+                continue
+            st = self.certify(u, xi, source)
+            if st is not None:
+                st = self.descend(st)
+                if best is None or st.alpha < best.alpha:
+                    best = st
+                if first:
+                    break
+        return best
+
+    # ------------------------------------------------------------------------ run
+    def start(self):
+        """Stability and the associative bound. Returns (status, alpha_assoc, x_assoc)."""
+        t = time.perf_counter()
+        try:
+            status, x = self.statics(maximize=True)
+            if status == "infeasible":
+                return "unstable", np.nan, None
+            if status == "unbounded":
+                _, x = self.statics()  # least alpha instead: start somewhere finite
+                return "unbounded", INF, x
+            if status != "optimal":
+                return status, np.nan, None
+            return "ok", float(x[-1]), x
+        finally:
+            self._phase("associative", t)
+
+    def stable(self) -> bool:
+        """Some statics carries the dead load alone (min alpha over S is 0).
+
+        Solved warm from the last basis (a certification LP's, near the least alpha):
+        cheap after a certificate, where a cold start costs as much as the associative LP.
+        """
+        t = time.perf_counter()
+        try:
+            status, x = self.statics()
+            return status == "optimal" and x[-1] <= 1e-9
+        finally:
+            self._phase("stability", t)
+
+    def run(self, explore=True, patience=None) -> SearchResult:
+        """The whole search; see :func:`search`."""
+        res = SearchResult(status="none certified", best=None, associative=np.nan)
+        self.checked_stable = None
+        interrupted = False
+        try:
+            status, a_assoc, x0 = self.start()
+            res.associative = a_assoc
+            self.N_assoc = self.N_of(x0) if x0 is not None else None
+            if status == "unstable":
+                res.status = "unstable"
+                res.message = ("no statically admissible state carries the dead load alone (alpha = 0): "
+                               "the structure is not in equilibrium without live load")
+                return self._finish(res, False)
+            if status not in ("ok", "unbounded"):
+                res.message = f"associative LP: {status}"
+                return self._finish(res, False)
+            self._t_assoc = self.elapsed()
+            t = time.perf_counter()
+            _, x = self.alternate(x0, source="gap")
+            if self.best is None:
+                self.rescue(x0)
+            self._phase("first", t)
+            self.checked_stable = self.stable()
+            if not self.checked_stable:
+                res.status = "unstable"
+                res.message = ("no statically admissible state carries the dead load alone (alpha = 0): "
+                               "the structure is not in equilibrium without live load")
+                self.best = self.best_user = None
+                return self._finish(res, False)
+            if explore:
+                self.explore(patience)
+        except Stopped:
+            interrupted = True
+        return self._finish(res, interrupted)
+
+    def explore(self, patience=None):
+        """Perturbations exp(sigma z) of the best cohesions (sigma 0.1/0.3/1) alternating
+        with the seed's fixed-point chain, until the deadline or ``patience`` seconds
+        without improvement (default: scaled to the time of the first certificate)."""
+        t = time.perf_counter()
+        try:
+            if patience is None:
+                t_first = self.first[1] if self.first else self.elapsed()
+                patience = max(0.25, 3.0 * t_first)
+            last = time.perf_counter()
+            best = self.best.alpha if self.best else INF
+            sigmas = (0.1, 0.3, 1.0)
+            k = 0
+            while time.perf_counter() - last < patience:
+                self.deadline.check()
+                N = self.reference_N()
+                if N is None:
+                    break
+                z = self.rng.standard_normal(self.nc)
+                c = -self.mu * N * np.exp(sigmas[k % 3] * z)
+                if k % 2 == 0:
+                    self.perturbed(c)
+                else:
+                    self.chain(c)
+                k += 1
+                if self.best is not None and self.best.alpha < best - 1e-10 * max(1.0, best):
+                    best = self.best.alpha
+                    last = time.perf_counter()
+        finally:
+            self._phase("explore", t)
+
+    def _finish(self, res, interrupted):
+        res.interrupted = interrupted
+        res.best = self.best_user
+        res.history = list(self.history)
+        res.phases = dict(self.phases)
+        res.n_lps = self.n_lps()
+        res.seconds = self.elapsed()
+        if self.first is not None:
+            res.first_alpha, res.first_time = self.first
+        if res.status in ("unstable",):
+            return res
+        if self.best_user is not None:
+            res.status = "certified"
+            res.message = "least certified collapse multiplier found by the search"
+            if self.checked_stable is None:
+                res.message += " (stopped before checking stability under the dead load alone)"
+        elif res.associative == INF:
+            res.status = "no collapse"
+            res.message = ("the associative LP is unbounded (the statics carries any multiple of the live "
+                           "load) and the search found no mechanism of the frictional assembly: rigid blocks "
+                           "with non-dilatant friction can lock (e.g. a block wedged between piers)")
+        elif not res.message:
+            res.status = "none certified"
+            res.message = (f"no collapse state certified{' before the stop' if interrupted else ''}; "
+                           f"the associative multiplier {res.associative:.6g} bounds alpha_c from above")
+        return res
+
+
+def search(structure: Structure, time_limit: float | None = None, stop=None, on_certified=None,
+           seed: int = 0, explore: bool = True, patience: float | None = None, handle_sigint: bool = True,
+           verbose: bool = False) -> SearchResult:
+    """Least certified collapse multiplier of a frictional block assembly (seed eq. 5).
+
+    ``time_limit`` (s) and ``stop`` (a callable, e.g. ``event.is_set``) end the search
+    early, also inside an LP; with ``handle_sigint`` Ctrl-C does the same (in the main
+    thread). ``on_certified(state)`` receives each new best certified state, in the
+    user's units. Without a time limit the search stops when exploring has not improved
+    for ``patience`` seconds (default: three times the time to the first certificate).
+    """
+    deadline = Deadline(time_limit, stop)
+    old = None
+    if handle_sigint and threading.current_thread() is threading.main_thread():
+        def _on_sigint(signum, frame):
+            deadline.flag = True
+        old = signal.signal(signal.SIGINT, _on_sigint)
+    try:
+        engine = GapSearch(structure, deadline, on_certified=on_certified, seed=seed, verbose=verbose)
+        return engine.run(explore=explore, patience=patience)
+    except Stopped:  # during construction
+        return SearchResult(status="none certified", best=None, associative=np.nan, interrupted=True,
+                            message="stopped before the first LP")
+    finally:
+        if old is not None:
+            signal.signal(signal.SIGINT, old)
