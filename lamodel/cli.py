@@ -450,7 +450,7 @@ def _write_study(study, out, structure):
     """cases.csv or rolling.csv (and rolling.png) next to the result files; the plot as SVG
     for the report."""
     from .output.html import svg_of
-    from .studies import cases_figure, rolling_figure, save_figure, write_csv
+    from .studies import cases_figure, rolling_figure, save_open_figure, write_csv
     df = study["table"]
     units = {"length_unit": structure.units.get("length", "-"), "force_unit": structure.units.get("force", "-")}
     write_csv(df.assign(**units), Path(out) / ("cases.csv" if study["key"] == "case" else "rolling.csv"))
@@ -458,8 +458,8 @@ def _write_study(study, out, structure):
         fig = cases_figure(df)
     else:
         fig = rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", ""))
-        save_figure(rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", "")),
-                    Path(out) / "rolling.png")
+        save_open_figure(rolling_figure(df, f"{structure.name}: rolling load", structure.units.get("length", "")),
+                         Path(out) / "rolling.png")
     svg = svg_of(fig)
     import matplotlib.pyplot as plt
     plt.close(fig)

@@ -257,7 +257,7 @@ def cases_figure(df: pd.DataFrame, title: str | None = None):
     return fig
 
 
-def save_figure(fig, path) -> str:
+def save_open_figure(fig, path) -> str:
     """Save a figure atomically (format from the extension) and close it."""
     path = Path(os.fspath(path))
     try:
