@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """lamodel inside a user's Pyomo study: the cheapest tie that keeps a wall's collapse load up.
 
-    python examples/tie_force.py                   # wall33, tie at b33, target alpha >= 0.66
+    python examples/tie_force.py                   # wall33, tie at b33, target alpha >= 0.645
     python examples/tie_force.py --target 0.70     # a target this tie cannot reach (exit 1)
 
 The user's model: the limit-analysis model of wall33 (``lamodel.LimitAnalysisBlock``,
@@ -26,7 +26,10 @@ its default GA and ``--checks`` wider GA searches) looks for the least certified
 multiplier of the tied wall. Only that number says whether the target is met, and
 it is itself the least multiplier lamodel found (an upper bound on the true minimum).
 
-On wall33 the least certified multiplier of the tied wall rises with T (0.66 at T = 0.3)
+Measured with the LP engine in the search (issue 10): a target of 0.645 is met with T = 0.035
+(alpha 0.647189, a hinging mechanism); already at T = 0.3 the search certifies a half block
+sliding out alone at alpha = mu = 0.65, so no tie at b33 reaches 0.66. Earlier, weaker
+searches reported: the least certified multiplier of the tied wall rises with T (0.66 at T = 0.3)
 (the whole wall sliding on the ground: alpha = 0.65 + T / 30) up to about 0.667 near
 T = 0.5; from T of about 0.55 on, the statics can hold b33 off the half block b28 below
 it, and a half block at the right end (b28, or b17 lower down: the same multiplier) slides
@@ -72,7 +75,7 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--instance", default=str(ROOT / "instances" / "wall33.dat"))
     p.add_argument("--block", default=None, help="tied block (default: the right end block of the top course)")
-    p.add_argument("--target", type=float, default=0.66, help="least acceptable collapse multiplier (default 0.66)")
+    p.add_argument("--target", type=float, default=0.645, help="least acceptable collapse multiplier (default 0.645)")
     p.add_argument("--price", type=float, default=1.0, help="cost per unit tie force (default 1)")
     p.add_argument("--t-max", type=float, default=5.0, help="largest tie force (default 5)")
     p.add_argument("--checks", type=int, default=2,
