@@ -144,8 +144,10 @@ class ResultFolder:
     ``ResultFolder(path, foreign).open()`` checks the place and creates the hidden sibling
     ``.<name>.lamodel-new-<pid>-<token>`` (so an unwritable place is found before any
     work); write every file into :attr:`path`, then :meth:`commit`. ``foreign(folder,
-    names)`` lists the names in an existing folder that its owner did not write: such a
-    folder is refused (InputError), never emptied, so a user's own files are never lost.
+    names)`` lists the names in an existing folder that its owner did not write: a user's
+    own files there (a log, notes) are carried into the new folder as hard links — the
+    same files, also while another program still writes them — so none is ever lost; a
+    folder holding a user's sub-folder or link is refused (InputError), never emptied.
 
     Guarantee (Linux, any local file system with ``renameat2(RENAME_EXCHANGE)``: ext4,
     xfs, btrfs, tmpfs): at every instant, also across ``kill -9`` or a power cut, the
@@ -203,11 +205,15 @@ class ResultFolder:
         if f == f.parent or cwd == f or f in cwd.parents:
             raise InputError(f"{self.shown}: is the current folder or holds it; expected a folder of its own for "
                              "the results (the whole folder is replaced)")
-        foreign = self.foreign_names()
-        if foreign:
-            shown = ", ".join(foreign[:3]) + (f" and {len(foreign) - 3} more" if len(foreign) > 3 else "")
-            raise InputError(f"{self.shown}: holds files lamodel did not write ({shown}); expected a new folder, an "
-                             "empty one or an earlier result folder (it is replaced as a whole)")
+        other = [n for n in self.foreign_names() if not self._plain_file(n)]
+        if other:
+            shown = ", ".join(other[:3]) + (f" and {len(other) - 3} more" if len(other) > 3 else "")
+            raise InputError(f"{self.shown}: holds folders or links lamodel did not write ({shown}); expected a new "
+                             "folder, or one holding only files (it is replaced as a whole; files are kept)")
+
+    def _plain_file(self, name) -> bool:
+        p = self.final / name
+        return p.is_file() and not p.is_symlink()
 
     def open(self) -> "ResultFolder":
         """Check the place, clean up after killed runs, create the staging folder."""
@@ -230,10 +236,13 @@ class ResultFolder:
     def commit(self) -> str:
         """Swap the staged folder in; the old one is removed. Returns the path."""
         foreign = self.foreign_names()
-        if foreign:  # someone put files there during the run: keep both, lose nothing
+        other = [n for n in foreign if not self._plain_file(n)]
+        if other:  # someone put a folder there during the run: keep both, lose nothing
             self.committed = True
-            raise InputError(f"{self.shown}: files lamodel did not write appeared during the run ({foreign[0]}); "
-                             f"the new results are left in {self.path}")
+            raise InputError(f"{self.shown}: a folder or link lamodel did not write appeared during the run "
+                             f"({other[0]}); the new results are left in {self.path}")
+        for name in foreign:  # the user's own files go along (same inodes)
+            os.link(self.final / name, self.path / name)
         fsync_path(self.path)
         old = None
         if not os.path.lexists(self.final):
@@ -250,6 +259,9 @@ class ResultFolder:
                 os.rename(self.path, self.final)
         self.committed = True
         if old is not None:
+            for name in self._foreign(old, os.listdir(old)):  # a file of the user's made in the last instant
+                if not os.path.lexists(self.final / name):
+                    os.rename(old / name, self.final / name)
             shutil.rmtree(old, ignore_errors=True)
         fsync_path(self.parent)
         return self.shown

@@ -277,12 +277,17 @@ def test_output_places_are_checked_before_solving(tmp_path, stack2, case):
     assert not out.exists() and not (tmp_path / "missing").exists(), "nothing may be written"
 
 
-def test_a_folder_holding_a_users_files_is_refused_and_kept(tmp_path, stack2):
+def test_a_users_files_in_the_folder_are_kept_and_a_users_folder_refused(tmp_path, stack2):
     out = tmp_path / "out"
     out.mkdir()
     (out / "notes.txt").write_text("my notes")
-    one_line_error(solve(stack2, "--out", out, *QUICK), "notes.txt", "expected")
-    assert snapshot(out) == {"notes.txt": b"my notes"}
+    p = solve(stack2, "--out", out, *QUICK)
+    assert p.returncode == 0, p.stderr
+    files = snapshot(out)
+    assert files["notes.txt"] == b"my notes" and "summary.csv" in files  # the user's file went along
+    (out / "mine").mkdir()
+    one_line_error(solve(stack2, "--out", out, *QUICK), "mine", "expected")
+    assert (out / "notes.txt").read_text() == "my notes" and (out / "mine").is_dir()
 
 
 # --------------------------------------------------------- 3. the name chooses no path
