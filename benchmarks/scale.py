@@ -97,7 +97,7 @@ def run_case(case, budget, seed, queue):
     from lamodel.search.engine import GapSearch, Deadline
     s = build(case)
     t0 = time.perf_counter()
-    eng = GapSearch(s, Deadline(budget if budget > 0 else None), seed=seed)
+    eng = GapSearch(s, Deadline.after(budget if budget > 0 else None), seed=seed)
     t_build = time.perf_counter() - t0
     res = eng.run()
     row = dict(case=case, blocks=s.n_blocks, contacts=s.n_contacts, status=res.status,

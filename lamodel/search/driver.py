@@ -171,12 +171,9 @@ def _lp_engine(structure, opt, deadline, final):
     """The unit-free LP search on the complementarity gap (:mod:`.engine`), first: its
     certified state (checked in the user's units) joins the archive, so the least of it
     and the GA's wins. A failure of the engine is not fatal: the GA still runs."""
-    from .engine import Deadline as EngineDeadline
     from .engine import GapSearch
-    left = deadline.left()
     try:
-        engine = GapSearch(structure, EngineDeadline(None if left == np.inf else max(left, 1e-3),
-                                                     stop=deadline.expired), seed=opt.seed)
+        engine = GapSearch(structure, deadline, seed=opt.seed)
         result = engine.run(explore=True)
     except (ArithmeticError, ValueError, AssertionError, RuntimeError, np.linalg.LinAlgError):
         return

@@ -38,6 +38,7 @@ from scipy.sparse.linalg import splu
 from ..formulation.matrices import equilibrium_matrix, flow_matrix, load_vectors, yield_matrix
 from ..structure import Structure
 from .certify import RESIDUAL_TOLERANCE, residuals
+from .options import Deadline, Stopped
 from .state import CollapseState
 
 INF = highspy.kHighsInf
@@ -61,36 +62,6 @@ CERTIFY_CAP_FACTOR = 5.0
 CERTIFY_CAP_MIN = 1.0
 #: Pressure step: how many of the most pushing held rows are tried one by one.
 PRESSURE_SINGLE = 8
-
-
-class Stopped(Exception):
-    """The deadline passed or the stop predicate fired (inside or between LPs)."""
-
-
-class Deadline:
-    """A time limit and/or a stop predicate, checked between LPs and inside HiGHS.
-
-    ``stop`` is any callable returning True to stop (a threading.Event's ``is_set`` works);
-    ``time_limit`` is in seconds from construction.
-    """
-
-    def __init__(self, time_limit: float | None = None, stop=None):
-        self.t0 = time.perf_counter()
-        self.end = None if time_limit is None else self.t0 + float(time_limit)
-        self.stop = stop
-        self.flag = False  # set by a signal handler (Ctrl-C)
-
-    def remaining(self) -> float:
-        return INF if self.end is None else self.end - time.perf_counter()
-
-    def expired(self) -> bool:
-        if self.flag or (self.stop is not None and self.stop()):
-            return True
-        return self.end is not None and time.perf_counter() >= self.end
-
-    def check(self):
-        if self.expired():
-            raise Stopped()
 
 
 # ======================================================================= the LP algebra
@@ -946,7 +917,7 @@ def search(structure: Structure, time_limit: float | None = None, stop=None, on_
     user's units. Without a time limit the search stops when exploring has not improved
     for ``patience`` seconds (default: three times the time to the first certificate).
     """
-    deadline = Deadline(time_limit, stop)
+    deadline = Deadline.after(time_limit, stop)
     old = None
     if handle_sigint and threading.current_thread() is threading.main_thread():
         def _on_sigint(signum, frame):
