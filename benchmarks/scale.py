@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""How the LP search engine (lamodel/gapsearch.py) scales: issue 10's benchmark table.
+"""How the LP search engine (lamodel/search/engine.py) scales: issue 10's benchmark table.
 
     python benchmarks/scale.py                               # everything, 60 s budget a case
     python benchmarks/scale.py --cases bond10,bond40 --budget 60
@@ -7,7 +7,8 @@
 
 Cases: ``wall33``/``wall55`` (the seed's Table 1), ``bondC`` (running bond of C courses of
 25 blocks: courses alternate, from the bottom, 1/2 + 24 + 1/2 and 25 full blocks, as the
-seed's panels), and ``doorK`` (walls with a door and windows, :func:`opening_wall`). Each
+seed's panels), and ``doorK`` (walls with a door and windows,
+:func:`lamodel.geometry.wall_with_openings`). Each
 case runs in its own process (peak memory is that process's ru_maxrss), timed from the
 engine's construction. ``--budget S`` is the time limit; 0 means no limit (the engine's
 own stopping rule). Prints one row per case and the growth exponent of the time to the
@@ -30,43 +31,6 @@ sys.path.insert(0, str(ROOT))
 
 
 # ------------------------------------------------------------------ instances
-def _course(offset, width, holes):
-    """Block lengths of one course (units of a full block) from 0 to ``width``.
-
-    Joints at ``offset + k``; ``holes`` are (x0, x1, kind): 'gap' leaves [x0, x1] empty,
-    'lintel' puts one block over [x0, x1]. Negative lengths are gaps (running_bond_wall).
-    """
-    cuts = {0.0, float(width)} | {offset + k for k in range(int(width) + 1) if 0 < offset + k < width}
-    for x0, x1, _ in holes:
-        cuts = {c for c in cuts if not x0 < c < x1} | {x0, x1}
-    cuts = sorted(cuts)
-    out = []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        gap = any(kind == "gap" and x0 <= a and b <= x1 for x0, x1, kind in holes)
-        out.append(-(b - a) if gap else (b - a))
-    return out
-
-
-def opening_wall(courses=12, width=12, openings=((2, 4, 0, 7), (7, 9, 3, 8)), name="door",
-                 mu=0.65):
-    """A running-bond wall (4 x 1.75 blocks, weight 1, unit horizontal live load, mu 0.65, as
-    the seed's panels) with rectangular openings in the style of Ferris & Tin-Loi's and
-    Gilbert et al.'s (2006) walls: each opening (x0, x1, c0, c1) is [x0, x1] (full-block
-    units) over courses c0 .. c1 - 1 (a door when c0 = 0), with one lintel block over
-    [x0 - 1/2, x1 + 1/2] in course c1."""
-    from lamodel.geometry import running_bond_wall
-    rows = []
-    for r in range(courses):
-        holes = []
-        for x0, x1, c0, c1 in openings:
-            if c0 <= r < c1:
-                holes.append((float(x0), float(x1), "gap"))
-            elif r == c1:
-                holes.append((x0 - 0.5, x1 + 0.5, "lintel"))
-        rows.append(_course(0.5 if r % 2 == 0 else 0.0, width, holes))
-    return running_bond_wall(rows, name=name, mu=mu)
-
-
 OPENINGS = {
     # ~50 blocks: one door
     "door1": dict(courses=6, width=8, openings=((3, 5, 0, 4),)),
@@ -79,8 +43,8 @@ OPENINGS = {
 
 
 def build(case: str):
-    from lamodel.geometry import running_bond_wall, seed_wall
-from lamodel.io.jsonspec import structure_from_json
+    from lamodel.geometry import running_bond_wall, seed_wall, wall_with_openings
+    from lamodel.io.jsonspec import structure_from_json
     if case in ("wall33", "wall55"):
         return structure_from_json(seed_wall(6 if case == "wall33" else 10))
     if case.startswith("bond"):
@@ -88,7 +52,7 @@ from lamodel.io.jsonspec import structure_from_json
         rows = [[0.5] + [1] * 24 + [0.5] if r % 2 == 0 else [1] * 25 for r in range(c)]
         return structure_from_json(running_bond_wall(rows, name=case))
     if case in OPENINGS:
-        return structure_from_json(opening_wall(name=case, **OPENINGS[case]))
+        return structure_from_json(wall_with_openings(name=case, **OPENINGS[case]))
     raise SystemExit(f"unknown case '{case}'")
 
 

@@ -74,6 +74,56 @@ def running_bond_wall(courses, full: float = 4.0, height=1.75, mu: float = 0.65,
     return _finish(name, description, mu, unit_weight, live_load, blocks)
 
 
+def _course_with_holes(offset, width, holes):
+    """Block lengths of one course (units of a full block) from 0 to ``width``.
+
+    Joints at ``offset + k``; ``holes`` are (x0, x1, kind): 'gap' leaves [x0, x1] empty,
+    'lintel' puts one block over [x0, x1]. Negative lengths are gaps (running_bond_wall).
+    """
+    cuts = {0.0, float(width)} | {offset + k for k in range(int(width) + 1) if 0 < offset + k < width}
+    for x0, x1, _ in holes:
+        cuts = {c for c in cuts if not x0 < c < x1} | {max(0.0, x0), min(float(width), x1)}
+    cuts = sorted(cuts)
+    out = []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        gap = any(kind == "gap" and x0 <= a and b <= x1 for x0, x1, kind in holes)
+        out.append(-(b - a) if gap else (b - a))
+    return out
+
+
+def wall_with_openings(courses: int = 12, width: int = 12, openings=((2, 4, 0, 7), (7, 9, 3, 8)),
+                       name: str = "wall_openings", mu: float = 0.65, **kwargs) -> dict:
+    """A running-bond wall with rectangular openings (doors and windows), in the style of
+    Ferris & Tin-Loi's (2001) and Gilbert et al.'s (2006) walls.
+
+    ``width`` full blocks long and ``courses`` high (4 x 1.75 blocks of weight 1 with a unit
+    horizontal live load, as the seed's panels; other keywords go to
+    :func:`running_bond_wall`). Courses alternate, from the bottom, 1/2 + full + 1/2 and full
+    blocks. Each opening ``(x0, x1, c0, c1)`` is empty over [x0, x1] (full-block units)
+    in courses c0 .. c1 - 1 (a door when c0 = 0) and carries one lintel block over
+    [x0 - 1/2, x1 + 1/2] in course c1. The default (a door and a window) has 129 blocks
+    and 324 contacts.
+    """
+    courses, width = int(courses), int(width)
+    if courses < 1 or width < 2:
+        raise InputError(f"wall_with_openings: {courses} courses of width {width}; expected >= 1 course, width >= 2")
+    for o in openings:
+        x0, x1, c0, c1 = o
+        if not (0 < x0 - 0.5 and x1 + 0.5 < width and x0 < x1 and 0 <= c0 < c1 < courses):
+            raise InputError(f"wall_with_openings: opening {tuple(o)} does not fit a wall of width {width} and "
+                             f"{courses} courses; expected 0.5 < x0 < x1 < width - 0.5 and 0 <= c0 < c1 < courses")
+    rows = []
+    for r in range(courses):
+        holes = []
+        for x0, x1, c0, c1 in openings:
+            if c0 <= r < c1:
+                holes.append((float(x0), float(x1), "gap"))
+            elif r == c1:
+                holes.append((x0 - 0.5, x1 + 0.5, "lintel"))
+        rows.append(_course_with_holes(0.5 if r % 2 == 0 else 0.0, width, holes))
+    return running_bond_wall(rows, name=name, mu=mu, **kwargs)
+
+
 def seed_wall(n_courses: int = 6, **kwargs) -> dict:
     """The seed's panels (Table 1): running bond of 4 x 1.75 full blocks, 5 blocks long.
 

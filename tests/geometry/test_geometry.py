@@ -465,3 +465,26 @@ def test_build_instance_script(tmp_path):
     assert command("build", [str(bad), "-o", str(tmp_path / "bad.dat")]) == 2
     res = run_script("build_instance.py", bad, "-o", tmp_path / "bad.dat")  # the old script path
     assert res.returncode == 2 and res.stderr.startswith("build_instance.py: error: "), res.stderr
+
+
+def test_wall_with_openings_leaves_the_openings_empty_and_bridges_them_with_lintels():
+    from lamodel.geometry import wall_with_openings
+    from lamodel.errors import InputError
+    spec = wall_with_openings(courses=6, width=8, openings=((3, 5, 0, 4),))
+    blocks = [b for b in spec["blocks"] if not b.get("support")]
+    area = 0.0
+    for b in blocks:
+        v = np.asarray(b["vertices"], float)
+        x, y = v[:, 0], v[:, 1]
+        area += 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1)))
+        # no block inside the door: x in (12, 20) (full block 4 long), courses 0..3 (height 1.75)
+        cx, cy = x.mean(), y.mean()
+        assert not (12 < cx < 20 and cy < 4 * 1.75), b["id"]
+    assert area == pytest.approx((8 * 6 - 2 * 4) * 4 * 1.75)
+    # the lintel over the door (course 4) is one block spanning [10, 22]
+    lintel = [b for b in blocks if min(v[0] for v in b["vertices"]) == 10 and max(v[0] for v in b["vertices"]) == 22]
+    assert len(lintel) == 1
+    s = structure_from_json(spec)
+    assert s.n_blocks == len(blocks)
+    with pytest.raises(InputError, match="does not fit"):
+        wall_with_openings(courses=6, width=8, openings=((7, 9, 0, 4),))
