@@ -80,10 +80,11 @@ def _solve_arguments(p):
     p.add_argument("--out", help="result folder, replaced as a whole (default: results/<instance name>/); "
                                  "a folder holding files lamodel did not write is refused")
     p.add_argument("--seed", type=int, default=SolveOptions.seed, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_whole(0), default=SolveOptions.starts, metavar="K",
-                   help=f"at most K Ipopt solves of eq. 5, one from each of the K best distinct collapse states "
-                        f"the GA certified: fewer when it certified fewer (runs.csv has one row per solve; "
-                        f"default {SolveOptions.starts}; 0: LPs only)")
+    p.add_argument("--starts", type=_whole(0), default=None, metavar="K",
+                   help="K Ipopt solves of eq. 5, one from each of the K best distinct certified collapse states "
+                        "(runs.csv has a row for each: its result, or why it was skipped: fewer distinct states, "
+                        "or the time limit). Default: up to 2, only when the model is small enough for a start "
+                        "to take about a second; 0: LPs only")
     _where_arguments(p, "worker processes for the Ipopt starts (default: all cores)",
                      "run the Ipopt starts on this dask.distributed scheduler instead")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
@@ -157,7 +158,7 @@ def _solve(args, prog) -> int:
                            pop_size=args.pop_size or SolveOptions.pop_size,
                            generations=args.generations or SolveOptions.generations,
                            solver=args.solver, progress=not args.quiet, scheduler=args.scheduler)
-    if args.scheduler and args.starts > 0:
+    if args.scheduler and args.starts != 0:
         from .search.executor import check_scheduler
         check_scheduler(args.scheduler)  # fail at once, not after the GA
     structure = _with_rolling_option(structure, args)
@@ -558,9 +559,9 @@ def _build(args, prog) -> int:
 def _table1_arguments(p):
     p.add_argument("--out", default="results/table1.csv", help="CSV file (default results/table1.csv)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the GA (default 0)")
-    p.add_argument("--starts", type=_whole(0), default=2, metavar="K",
-                   help="at most K Ipopt solves of eq. 5 per wall, from the best distinct certified states "
-                        "(default 2; 0: LPs only)")
+    p.add_argument("--starts", type=_whole(0), default=None, metavar="K",
+                   help="K Ipopt solves of eq. 5 per wall, from the best distinct certified states "
+                        "(default: only when cheap, see solve --help; 0: LPs only)")
     p.add_argument("--workers", type=_whole(1), default=None, help="worker processes (default: all cores)")
 
 
@@ -580,7 +581,8 @@ def _table1(args, prog) -> int:
             c: (lambda v: f"{v:.5f}") for c in ("ferris_tin_loi_2", "gilbert_4", "mihai_5", "seed")} | {
             "seconds": lambda v: f"{v:.1f}"}))
     write_csv(df, args.out)
-    print(f"written to {args.out} (seed {args.seed}, starts {args.starts})")
+    starts = "default" if args.starts is None else args.starts
+    print(f"written to {args.out} (seed {args.seed}, starts {starts})")
     return EXIT_OK if df["certified"].all() else EXIT_NOT_CERTIFIED
 
 

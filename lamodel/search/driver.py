@@ -1,33 +1,68 @@
-"""The solver driver: GA-seeded multistart of Ipopt on eq. (5), certified minimum alpha.
+"""The solver: least certified collapse multiplier of a frictional block assembly (eq. 5).
 
-1. The associative LP gives an upper bound on every collapse multiplier and the
-   reference cohesions c_ref = -mu N.
-2. A genetic algorithm (:mod:`lamodel.search.ga`) searches cohesions c = g * c_ref. Each genome
-   is scored by the LP of the fictitious system (its duals are a mechanism) and that
-   mechanism's certification (:mod:`lamodel.search.certify`): the fitness is a certified
-   collapse multiplier whenever one exists, and every certified state is archived.
-3. The best distinct archived states, descended with the alternating certification LPs,
-   start Ipopt solves of eq. (5) with the bilinear condition relaxed to
-   0 <= alpha_K - alpha <= epsilon and epsilon driven to 0 with warm starts, in worker
-   processes (each builds its own Pyomo model). Every Ipopt point is certified.
-4. The least certified alpha wins. Nothing uncertified is reported as a multiplier.
+The seed's frame — a genetic algorithm over the fictitious cohesions whose individuals
+become points of eq. (5), polished by Ipopt — on the LP engine of :mod:`.engine`:
+
+1. **Scale.** Forces by the mean dead load of a block, lengths by the size of the
+   structure: every LP and NLP is unit-free; states come back in the user's units.
+2. **First certificate.** From the associative statics, the gap alternation (mechanism
+   step, statics step on ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be
+   held; the certified state is descended (:meth:`GapSearch.alternate`, ``rescue``).
+3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
+4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
+   best certified state. Fitness and local search: :meth:`GapSearch.evaluate` (the
+   cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each
+   certified state descended). Stopping rule: no improvement for a while, measured in
+   evaluations and LP solves against those the first certificate took (counted, not
+   timed: a seed gives the same answer on any machine), at most ``generations``
+   generations, or the time limit.
+5. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
+   condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
+   when the model is small enough: a start is skipped, with the reason in runs.csv, when
+   its estimated time does not fit the budget. Every Ipopt point is certified again.
+
+Nothing uncertified is ever reported as a multiplier. Ctrl-C and the time limit reach
+inside every LP (HiGHS's interrupt callback); the best certified state so far is kept.
 """
 from __future__ import annotations
 
+import math
+import signal
+import threading
 import time
-from dataclasses import dataclass
+from concurrent.futures import FIRST_COMPLETED, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..formulation.matrices import xi_bounds
 from ..structure import Structure
-from .certify import certify, certify_flow, descend
-from .lp import LimitLPs
-from .ipopt import ipopt_multistart, start_pool
-from .options import Deadline, SolveOptions
+from .ipopt import EPSILON_LADDER, IPOPT_STATUS, _ipopt_task, start_pool  # noqa: F401
+from .options import Deadline, SolveOptions, Stopped
 from .state import CollapseState, Run
 
-__all__ = ["Outcome", "Run", "SolveOptions", "reference_cohesion", "solve"]
+__all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
+
+#: Ipopt starts when --starts is not given
+DEFAULT_STARTS = 2
+#: Without a time limit and without --starts, a start runs only if estimated to take at
+#: most this many seconds (the default run stays fast; ask with --starts for more).
+POLISH_SECONDS = 1.0
+#: GA genes: log-perturbations of the cohesions, within +-Z_MAX; initial spread Z_INIT.
+Z_MAX, Z_INIT = 2.0, 0.3
+#: GA stopping rule: this many evaluations, and this many times the LP solves of the first
+#: certificate, without improvement.
+STALL_EVALUATIONS, STALL_WORK = 2, 3.0
+#: Relative tolerances on the yield slacks that say which rows an Ipopt point holds.
+ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
+
+
+def ipopt_seconds(n_blocks: int) -> float:
+    """Estimated seconds of one Ipopt start on eq. (5): about 250 iterations of
+    2.4 s (nb / 1020)^1.8 each (measured with Debian's Ipopt 3.11 and sequential MUMPS:
+    12 ms at 55 blocks, 2.4 s at 1020)."""
+    return 250 * 2.4 * (n_blocks / 1020.0) ** 1.8
+
 
 @dataclass
 class Outcome:
@@ -41,223 +76,353 @@ class Outcome:
     message: str
     wall_time_s: float
     seed: int
+    first: tuple = (np.nan, np.nan)                 # (alpha, seconds) of the first certificate
+    phases: dict = field(default_factory=dict)      # seconds per phase of the search
+    history: list = field(default_factory=list)     # (seconds, alpha, source) of each improvement
 
     @property
     def certified(self) -> bool:
         return self.best is not None
 
 
-class _Archive:
-    """Certified states, one per distinct flow pattern, best first."""
+class _Progress:
+    """One line on stderr, on a terminal only: phase, best certified alpha, elapsed."""
 
-    def __init__(self):
-        self.states = {}
+    def __init__(self, enabled: bool, total: int):
+        from tqdm import tqdm
+        self.bar = tqdm(total=total, desc="associative LP", unit="genome", leave=False,
+                        disable=None if enabled else True, bar_format="{desc} {n_fmt}/{total_fmt} "
+                        "[{elapsed}{postfix}]")
+        self.alpha = None
 
-    def add(self, state: CollapseState | None):
-        if state is None:
-            return
-        key = state.flow.tobytes()
-        old = self.states.get(key)
-        if old is None or state.alpha < old.alpha:
-            self.states[key] = state
+    def phase(self, name):
+        self.bar.set_description_str(name, refresh=True)
 
-    def best(self, n=None):
-        ranked = sorted(self.states.values(), key=lambda s: s.alpha)
-        return ranked if n is None else ranked[:n]
+    def best(self, alpha):
+        self.alpha = alpha
+        self.bar.set_postfix_str(f"best certified alpha {alpha:.6f}", refresh=True)
 
+    def tick(self):
+        self.bar.update()
 
-def reference_cohesion(structure: Structure, N_assoc) -> np.ndarray:
-    """c_ref = -mu N of the associative solution.
-
-    Contacts it leaves unloaded keep no cohesion: a cohesion on a contact without
-    compression lets the fictitious system carry shear across an open joint, which no
-    real state can (measured: such genomes almost never certify).
-    """
-    return structure.mu * -np.minimum(N_assoc, 0.0)
+    def close(self):
+        self.bar.close()
 
 
 def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     """Find the least certified collapse multiplier of the structure (see module doc)."""
+    from .engine import GapSearch, _scaled, _scales
+
     opt = options or SolveOptions()
     t0 = time.perf_counter()
-    deadline = Deadline.after(opt.time_limit)
-    out_of_time = deadline.expired
     structure.validate()
     opt.validate()
     _check_solver(opt)
-    lps = LimitLPs(structure)                     # tight tolerances: what is reported
-    screen = LimitLPs(structure, tolerance=None, formulation=lps.formulation)  # HiGHS defaults: the GA's LPs
-    screen.deadline = deadline
-    # the reported LPs may finish what the search found: a tenth of the limit more
-    lps.deadline = deadline.extended(0.1 * (opt.time_limit or 0.0))
+    stop = threading.Event()  # Ctrl-C
+    deadline = Deadline.after(opt.time_limit, stop.is_set)
+    plan = _polish_plan(structure, opt)
+    # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
+    # threads here, and build their models while the LPs run.
+    scaled = _scaled(structure, *_scales(structure))
+    pool = start_pool(scaled, opt, plan["n"]) if plan["run"] else None
+    # the search leaves the polish its share of a time limit
+    search_deadline = deadline
+    if plan["run"] and opt.time_limit is not None:
+        search_deadline = deadline.extended(-min(plan["reserve"], 0.5 * opt.time_limit))
+    progress = _Progress(opt.progress, opt.pop_size * opt.generations)
+    archive = {}  # every certified state (scaled units), the least alpha per flow pattern
+
+    def on_state(state):
+        key = state.flow.tobytes()
+        if key not in archive or state.alpha < archive[key].alpha:
+            archive[key] = state
+
+    def on_certified(user_state):
+        progress.best(user_state.alpha)
+
+    old_handler = _catch_sigint(stop)
+    engine = None
     runs: list[Run] = []
-    final = _Archive()     # states certified with tight tolerances
-
-    def finish(status, message, alpha_assoc=np.nan):
-        best = final.best(1)[0] if final.states else None
-        runs.sort(key=lambda r: r.start)
-        return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed)
-
-    # Fork the Ipopt workers before HiGHS starts threads here; they build their models
-    # while the LPs and the GA run.
-    pool = start_pool(structure, opt) if opt.starts > 0 else None
-    ga_start, lp0, alpha_assoc = time.perf_counter(), lps.n_solves, np.nan
+    status, message, alpha_assoc = "not_certified", "", np.nan
     try:
-        status, message, assoc = _classify(structure, lps, final)
-        if status in ("unstable", "no_collapse", "failed"):
-            return finish("not_certified" if status == "failed" else status, message)
-        alpha_assoc = assoc.alpha if assoc is not None else np.inf
-        if assoc is not None:
-            _lp_engine(structure, opt, deadline, final)
-            _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time)
-        best = final.best(1)[0] if final.states else None
-        runs.append(Run(0, "ga+lp", np.nan, ("certified" if best else "not_certified")
-                        + (", time limit" if out_of_time() else ""), best.alpha if best else np.nan,
-                        screen.n_solves + lps.n_solves - lp0, time.perf_counter() - ga_start))
-        # ---- Ipopt multistart on eq. (5) from the best distinct states
-        if pool is not None:
-            starts = final.best(opt.starts)
-            if not starts and assoc is not None:
-                starts = [s for s in [_associative_start(lps, assoc)] if s is not None]
-            if out_of_time():
-                runs.extend(Run(i, "ipopt", status="time limit: not started") for i in range(1, opt.starts + 1))
-            elif starts:
-                ipopt_multistart(pool, lps, starts, final, runs, opt, deadline)
-    except KeyboardInterrupt:
-        if not any(r.start == 0 for r in runs):
-            best = final.best(1)[0] if final.states else None
-            runs.append(Run(0, "ga+lp", np.nan, "interrupted", best.alpha if best else np.nan,
-                            screen.n_solves + lps.n_solves - lp0, time.perf_counter() - ga_start))
-        return finish("interrupted", "interrupted: the best certified state so far is reported", alpha_assoc)
+        engine = GapSearch(structure, search_deadline, on_certified=on_certified, seed=opt.seed)
+        engine.on_state = on_state
+        t_search = time.perf_counter()
+        status, message, alpha_assoc = _search(engine, opt, progress)
+        runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, stop),
+                        _alpha(engine) if engine.best is not None else np.nan, engine.n_lps(),
+                        time.perf_counter() - t_search))
+        if status == "certified" or (status == "not_certified" and engine.best is not None):
+            _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
+        progress.close()
+        _restore_sigint(old_handler)
         if pool is not None:
-            pool.shutdown(wait=False, cancel_futures=True)
-    limit = " (the time limit stopped the search)" if out_of_time() else ""
-    if not final.states:
-        return finish("not_certified", "no start reached a certified collapse state" + limit, alpha_assoc)
-    return finish("certified", "certified collapse state" + limit, alpha_assoc)
+            _shutdown(pool, kill=stop.is_set() or deadline.expired())
+    if engine is not None and engine.best_user is not None and status in ("not_certified", "certified"):
+        status = "certified"
+    if stop.is_set():
+        status, message = "interrupted", "interrupted: the best certified state so far is reported"
+    elif status == "certified":
+        message = "certified collapse state"
+    if status in ("certified", "interrupted", "not_certified") and deadline.expired() and not stop.is_set():
+        message += " (the time limit stopped the search)"
+    runs.sort(key=lambda r: r.start)
+    best = engine.best_user if engine is not None and status in ("certified", "interrupted") else None
+    return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
+                   first=engine.first if engine is not None and engine.first else (np.nan, np.nan),
+                   phases=dict(engine.phases) if engine is not None else {},
+                   history=list(engine.history) if engine is not None else [])
 
 
-def _classify(structure, lps, final):
-    """Can the structure stand, and can it collapse? Returns (status, message, assoc LP).
-
-    * no statically admissible state at alpha = 0: unstable under dead load;
-    * max alpha over S unbounded: the associative assembly never collapses, but a
-      frictional one still may (e.g. lifting off joints squeezed by friction), so look
-      for a mechanism directly; none at all means no collapse for this live load.
-    """
-    at_rest = lps.statics(None, minimize=True)  # least alpha >= 0 with a statics
-    if at_rest.status == "infeasible" or (at_rest.ok and at_rest.alpha > 1e-9):
-        need = f" (it needs alpha >= {at_rest.alpha:.6g} to stand)" if at_rest.ok else ""
-        return "unstable", "unstable under dead load: no statically admissible state at alpha = 0" + need, None
-    if not at_rest.ok:
-        return "failed", f"the statics LP failed ({at_rest.status})", None
-    assoc = lps.associative()
-    if assoc.ok:
-        return "ok", "", assoc
-    if not assoc.status.startswith("unbounded"):
-        return "failed", f"the associative LP failed ({assoc.status})", None
-    allowed = np.ones(4 * structure.n_contacts, dtype=bool)
-    mres, u, xi = lps.mechanism(allowed, np.zeros(structure.n_contacts), xi_max=xi_bounds(structure))
-    if not mres.ok:
-        return "no_collapse", "no collapse for this live load: no mechanism can follow it", None
-    state = certify_flow(lps, u, xi, source="mechanism LP")
-    if state is not None:
-        final.add(descend(lps, state))
-    return "ok", "", None
-
-
-def _lp_engine(structure, opt, deadline, final):
-    """The unit-free LP search on the complementarity gap (:mod:`.engine`), first: its
-    certified state (checked in the user's units) joins the archive, so the least of it
-    and the GA's wins. A failure of the engine is not fatal: the GA still runs."""
-    from .engine import GapSearch
+# ------------------------------------------------------------------------ the search
+def _search(engine, opt, progress):
+    """Steps 2-4 of the module doc. Returns (status, message, associative alpha)."""
+    alpha_assoc = np.nan
     try:
-        engine = GapSearch(structure, deadline, seed=opt.seed)
-        result = engine.run(explore=True)
-    except (ArithmeticError, ValueError, AssertionError, RuntimeError, np.linalg.LinAlgError):
-        return
-    if result.best is not None and result.status == "certified":
-        result.best.source = "lp engine"
-        final.add(result.best)
+        kind, alpha_assoc, x0 = engine.start()
+        engine.N_assoc = engine.N_of(x0) if x0 is not None else None
+        if kind == "unstable":
+            return "unstable", _unstable_message(engine), np.nan
+        if kind not in ("ok", "unbounded"):
+            return "not_certified", f"the associative LP failed ({kind})", alpha_assoc
+        progress.phase("first certificate")
+        engine.alternate(x0, source="gap")
+        if engine.best is None:
+            engine.rescue(x0)
+        engine.checked_stable = engine.stable()
+        if not engine.checked_stable:
+            engine.best = engine.best_user = None
+            return "unstable", _unstable_message(engine), alpha_assoc
+        # the GA also runs when the first phase stalled: its perturbations of the
+        # associative cohesions are the next way to a certificate
+        progress.phase("GA + LP")
+        _genetic_search(engine, opt, progress)
+    except Stopped:
+        if engine.best is None:
+            return _nothing_certified(alpha_assoc, stopped=True)
+    if engine.best is None:
+        return _nothing_certified(alpha_assoc, stopped=False)
+    return "certified", "", alpha_assoc
 
 
-def _genetic_search(structure, opt, lps, screen, assoc, final, out_of_time):
-    """Step 2 of the module doc: the GA over cohesions, then the best states certified
-    again with tight tolerances and descended into ``final``."""
-    archive = _Archive()  # states certified by the screening LPs
-    alpha_assoc = assoc.alpha
-    c_ref = reference_cohesion(structure, lps.split(assoc.x)[0])
-
-    from tqdm import tqdm
-    bar = tqdm(total=opt.pop_size * opt.generations, desc="GA + LP", unit="genome", leave=False,
-               disable=not opt.progress)
-
-    def fitness(g):
-        """Least certified alpha along a short chain of the fixed-point map
-        c -> -mu N(LP_c), started from c = g * c_ref: a fixed point is a collapse
-        state (the seed's second theorem). Only the last steps are certified (measured:
-        the first steps of a chain almost never are, and proving that costs most), and
-        each certified state is descended. Without one: the LP value plus a penalty."""
-        bar.update()
-        c, best, fallback = g * c_ref, np.inf, alpha_assoc + 10.0
-        if out_of_time():  # the rest of this generation is skipped, then the GA stops
-            return fallback
-        for step in range(opt.chain):
-            res, u, xi = screen.cohesive(c)
-            if not res.ok:
-                break
-            fallback = min(fallback, res.alpha + 1.0)  # worse than any certified state
-            if step >= opt.chain - 2:
-                state = certify_flow(screen, u, xi, source="ga")
-                if state is not None and state.flow.tobytes() not in archive.states:
-                    state = descend(screen, state)
-                    archive.add(state)
-                    best = min(best, state.alpha)
-                elif state is not None:
-                    best = min(best, archive.states[state.flow.tobytes()].alpha)
-            c = -structure.mu * screen.split(res.x)[0]
-        return best if np.isfinite(best) else fallback
-
+def _genetic_search(engine, opt, progress):
+    """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc)."""
     from .ga import genetic_search
+    nc = engine.nc
+    lps_first = max(engine.n_lps(), 1)  # the work the first certificate took
+    state = {"evals": 0, "since": 0, "best": _alpha(engine), "lps": engine.n_lps()}
+
+    def stalled():
+        """The stopping rule: STALL_EVALUATIONS evaluations and STALL_WORK times the LPs
+        of the first certificate without improvement (LPs, not seconds: deterministic)."""
+        return (state["since"] >= STALL_EVALUATIONS
+                and engine.n_lps() - state["lps"] >= STALL_WORK * lps_first)
+
+    def fitness(z):
+        if stalled():  # the rest of this generation is skipped, then the GA stops
+            return math.inf
+        alpha = engine.evaluate(z, reference_N=engine.reference_N(), chain_steps=opt.chain)
+        progress.tick()
+        state["evals"] += 1
+        if _better(_alpha(engine), state["best"]):
+            state.update(best=_alpha(engine), since=0, lps=engine.n_lps())
+        else:
+            state["since"] += 1
+        return alpha if np.isfinite(alpha) else 10.0 + (state["best"] if np.isfinite(state["best"]) else 0.0)
+
     rng = np.random.default_rng(opt.seed)
-    # the associative cohesions and log-normal perturbations of them
-    initial = np.exp(rng.normal(0.0, 0.3, size=(opt.pop_size, structure.n_contacts)))
-    initial[0] = 1.0
+    initial = np.clip(rng.normal(0.0, Z_INIT, size=(opt.pop_size, nc)), -Z_MAX, Z_MAX)
+    initial[0] = 0.0
+    genetic_search(fitness, nc, initial=initial, lower=-Z_MAX, upper=Z_MAX, pop_size=opt.pop_size,
+                   generations=opt.generations, seed=opt.seed, out_of_time=stalled)
+
+
+def _nothing_certified(alpha_assoc, stopped):
+    if alpha_assoc == np.inf:
+        return "no_collapse", (
+            "no collapse found: the associative LP is unbounded (the statics carries any multiple of the live "
+            "load) and the search found no mechanism of the frictional assembly; rigid blocks with "
+            "non-dilatant friction can lock (e.g. a block wedged between piers)"), alpha_assoc
+    when = " before the stop" if stopped else ""
+    bound = f"; the associative multiplier {alpha_assoc:.6g} bounds alpha_c from above" if np.isfinite(alpha_assoc) else ""
+    return "not_certified", f"no collapse state certified{when}{bound}", alpha_assoc
+
+
+def _unstable_message(engine):
+    """Unstable under dead load, and what alpha it would need to stand (if any)."""
+    base = "unstable under dead load: no statically admissible state at alpha = 0"
     try:
-        genetic_search(fitness, structure.n_contacts, initial=initial, upper=3.0, pop_size=opt.pop_size,
-                       generations=opt.generations, seed=opt.seed, out_of_time=out_of_time)
-    finally:
-        bar.close()
-        # the best distinct states again with tight tolerances, and descended (also when
-        # interrupted: what was found is kept)
-        for state in archive.best(max(opt.starts, 3)):
-            final.add(_recertify(lps, state))
+        status, x = engine.statics()  # least alpha >= 0 with a statics
+    except Stopped:
+        return base
+    if status == "optimal" and x[-1] > 0:
+        return base + f" (it needs alpha >= {x[-1]:.6g} to stand)"
+    return base
+
+
+def _run_status(engine, status, deadline, stop):
+    text = {"certified": "certified"}.get(status, status.replace("_", " "))
+    if engine.best is not None:
+        text = "certified"
+    if stop.is_set():
+        text += ", interrupted"
+    elif deadline.expired():
+        text += ", time limit"
+    return text
+
+
+def _better(a, b):
+    """a improves on b (b may be inf: nothing yet)."""
+    return a < b if not math.isfinite(b) else a < b - 1e-10 * max(1.0, abs(b))
+
+
+def _alpha(engine):
+    """Best certified alpha so far (inf if none)."""
+    return engine.best.alpha if engine.best is not None else math.inf
+
+
+# --------------------------------------------------------------------- Ipopt polish
+def _polish_plan(structure, opt) -> dict:
+    """How many Ipopt starts, and may they run: ``--starts K`` asks for K whatever they
+    cost (within a time limit); without it, up to DEFAULT_STARTS when one is estimated
+    at most POLISH_SECONDS (or half the time limit)."""
+    explicit = opt.starts is not None
+    n = opt.starts if explicit else DEFAULT_STARTS
+    est = ipopt_seconds(structure.n_blocks)
+    workers = max(1, min(opt.workers or _cores(), n or 1))
+    plan = dict(n=n, estimate=est, explicit=explicit, reserve=est * math.ceil(n / workers), why="")
+    budget = None if opt.time_limit is None else 0.5 * opt.time_limit
+    if n == 0:
+        plan["run"] = False
+    elif budget is not None and est > budget:
+        plan["run"], plan["why"] = False, (f"skipped: Ipopt on {structure.n_blocks} blocks takes about {est:.3g} s "
+                                           f"a start (estimated), over half the time limit")
+    elif not explicit and budget is None and est > POLISH_SECONDS:
+        plan["run"], plan["why"] = False, (f"skipped: Ipopt on {structure.n_blocks} blocks takes about {est:.3g} s "
+                                           f"a start (estimated); ask for it with --starts")
+    else:
+        plan["run"] = True
+    return plan
+
+
+def _cores():
+    import os
+    return os.cpu_count() or 1
+
+
+def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
+    """Step 5: Ipopt from the best distinct certified states; each point certified in the
+    engine (its rows held, min alpha, descended), so a better one becomes the best."""
+    n = plan["n"]
+    if n == 0:
+        return
+    starts = sorted(archive.values(), key=lambda s: s.alpha)[:n]
+    rows = {}
+    if not plan["run"] or pool is None:
+        for i in range(1, n + 1):
+            runs.append(Run(i, "ipopt", status=plan["why"] or "skipped"))
+        return
+    for i in range(len(starts) + 1, n + 1):
+        rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
+                                         f"{'s' if len(starts) != 1 else ''} to start from")
+    progress.phase("Ipopt on eq. 5")
+    futures = {}
+    for i, st in enumerate(starts, start=1):
+        if deadline.left() < plan["estimate"] and deadline.at is not None:
+            rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
+                          status=f"skipped: time limit ({deadline.left():.3g} s left, about "
+                                 f"{plan['estimate']:.3g} s needed)")
+            continue
+        futures[pool.submit(_ipopt_task, i, st, EPSILON_LADDER, opt.ipopt_options, deadline)] = (i, st)
+    pending = set(futures)
+    try:
+        while pending:
+            if deadline.expired():
+                break
+            done, pending = wait(pending, timeout=0.1, return_when=FIRST_COMPLETED)
+            for fut in done:
+                i, st = futures[fut]
+                rows[i] = _certify_ipopt(engine, fut, i, st)
+    except Stopped:
+        pass
+    for fut in pending:
+        i, st = futures[fut]
+        fut.cancel()
+        rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
+                      status="interrupted" if deadline.flag or (deadline.stop and deadline.stop()) else "time limit")
+    runs.extend(rows[i] for i in sorted(rows))
+
+
+def _certify_ipopt(engine, fut, i, st) -> Run:
+    source = f"ipopt from {st.source} (alpha {st.alpha:.6f})"
+    try:
+        _, (N, V, M, alpha, u, xi), message, iterations, seconds = fut.result()
+    except BrokenProcessPool:
+        return Run(i, source, status="worker died")
+    except Exception as exc:  # a failed solve is recorded, never fatal
+        return Run(i, source, status=f"failed: {type(exc).__name__}: {exc}")
+    state = _certify_point(engine, N, V, M, "ipopt")
+    return Run(i, source, alpha, message, state.alpha if state is not None else np.nan, iterations, seconds)
+
+
+def _certify_point(engine, N, V, M, source):
+    """An Ipopt point (scaled units) as a collapse state: the rows it holds within a
+    tolerance may flow; the least-alpha_K mechanism on them, its rows held, min alpha,
+    descended. The least certified alpha over the tolerances, or None."""
+    s = np.concatenate([N, V, M])
+    slack = -(engine.Y @ s)
+    scale = max(float(np.abs(s).max()), 1.0)
+    best, tried = None, set()
+    for tol in ACTIVE_TOLERANCES:
+        allowed = slack <= tol * scale
+        key = allowed.tobytes()
+        if key in tried or not allowed.any():
+            continue
+        tried.add(key)
+        status, _, _, u, xi = engine.mechanism(-engine.mu * np.minimum(N, 0.0), allowed)
+        if status != "optimal":
+            continue
+        st = engine.certify(u, xi, source)
+        if st is not None:
+            st = engine.descend(st)
+            if best is None or st.alpha < best.alpha:
+                best = st
+        if best is not None:
+            break
+    return best
+
+
+def _shutdown(pool, kill):
+    """Stop the Ipopt workers; on Ctrl-C or the time limit, kill them (a running start
+    would otherwise hold the exit for its whole solve)."""
+    live = getattr(pool, "_processes", None)
+    procs = list(live.values()) if kill and isinstance(live, dict) else []
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        try:
+            p.kill()
+        except (OSError, AttributeError):
+            pass
+
+
+# -------------------------------------------------------------------------- helpers
+def _catch_sigint(stop):
+    """Ctrl-C sets ``stop``: every LP, the GA and the Ipopt wait see it within a moment."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGINT, lambda signum, frame: stop.set())
+
+
+def _restore_sigint(old):
+    if old is not None:
+        signal.signal(signal.SIGINT, old)
 
 
 def _check_solver(opt):
     from ..errors import InputError
-    if opt.solver == "ipopt" and opt.starts > 0:
+    if opt.solver == "ipopt" and opt.starts != 0:
         from pyomo.environ import SolverFactory
         if not SolverFactory("ipopt").available(exception_flag=False):
             raise InputError("solver 'ipopt' asks for an ipopt executable on PATH and none was found; "
                              "expected the default 'lamodel_ipopt' (Debian's libipopt through cyipopt)")
-
-
-def _recertify(lps, state):
-    """A state found with screening tolerances, certified again with tight ones and
-    descended; None if it does not survive."""
-    tight = certify_flow(lps, state.u, state.xi, state.source)
-    if tight is None:
-        tight = certify(lps, state.N, state.V, state.M, state.alpha, state.u, state.xi, state.source)
-    return None if tight is None else descend(lps, tight)
-
-
-def _associative_start(lps, assoc):
-    """The associative statics with the mechanism of its cohesive LP: an Ipopt start when
-    the LPs certified nothing; None when that LP did not finish (e.g. the time limit)."""
-    N, V, M, alpha = lps.split(assoc.x)
-    res, u, xi = lps.cohesive(-lps.structure.mu * N)
-    if not res.ok:
-        return None
-    return CollapseState(alpha=alpha, N=N, V=V, M=M, u=u, xi=xi, flow=xi > 0, source="associative")

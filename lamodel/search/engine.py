@@ -342,6 +342,7 @@ class GapSearch:
         self.user = structure
         self.deadline = deadline or Deadline()
         self.on_certified = on_certified
+        self.on_state = None
         self.rng = np.random.default_rng(seed)
         self.verbose = verbose
         self.t0 = time.perf_counter()
@@ -509,6 +510,8 @@ class GapSearch:
         if max(state.residual.values()) > RESIDUAL_TOLERANCE:
             return None
         state.lam = x  # kept for warm descents (not part of the user state)
+        if self.on_state is not None:  # every certified state (scaled units), e.g. an archive
+            self.on_state(state)
         self._record(state)
         return state
 

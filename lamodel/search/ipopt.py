@@ -55,7 +55,7 @@ def _warm(_):
     return os.getpid()
 
 
-def start_pool(structure, opt):
+def start_pool(structure, opt, n_starts=None):
     """Where the Ipopt starts run: a pool of local processes (default), a Dask cluster
     (``opt.scheduler``), or this process when it is itself a worker (a study's variant,
     a Dask task: the work is already spread, and daemonic workers cannot fork a pool)."""
@@ -64,7 +64,7 @@ def start_pool(structure, opt):
     if multiprocessing.parent_process() is not None:
         return _InlinePool(structure, opt)
     workers = opt.workers or os.cpu_count() or 1
-    workers = max(1, min(workers, opt.starts))
+    workers = max(1, min(workers, n_starts or opt.starts or 1))
     # fork before any HiGHS thread exists in this process; workers build their models
     # while the GA runs here.
     ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")

@@ -15,7 +15,7 @@ class SolveOptions:
     """What a user can choose about a solve (``lamodel solve --help`` lists the same)."""
 
     seed: int = 0
-    starts: int = 2                # Ipopt solves of eq. (5)
+    starts: int | None = None      # Ipopt solves of eq. (5); None: up to 2 when cheap (driver)
     workers: int | None = None     # worker processes (default: all cores)
     time_limit: float | None = None
     pop_size: int = 10
@@ -39,7 +39,7 @@ class SolveOptions:
             if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
                 raise InputError(f"option {name} is {v!r}; expected a whole number >= {minimum}")
         whole("seed", -2**63)
-        whole("starts", 0)
+        whole("starts", 0, allow_none=True)
         whole("workers", 1, allow_none=True)
         whole("pop_size", 2)
         whole("generations", 1)

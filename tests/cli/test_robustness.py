@@ -417,7 +417,6 @@ def test_starts_help_says_what_it_does():
     assert "at most K Ipopt solves" in text and "fewer" in text, text
 
 
-@pytest.mark.xfail(strict=False, reason="issue 10 rewrites the driver")
 def test_runs_has_a_row_for_every_requested_start(tmp_path):
     out = tmp_path / "out"
     p = solve(INSTANCES / "wall33.dat", "--out", out, "--starts", "3", "--no-plot", "--quiet", "--workers", "1")
