@@ -26,10 +26,12 @@ its default GA and ``--checks`` wider GA searches) looks for the least certified
 multiplier of the tied wall. Only that number says whether the target is met, and
 it is itself the least multiplier lamodel found (an upper bound on the true minimum).
 
-Measured with the LP engine in the search (issue 10): a target of 0.645 is met with T = 0.035
-(alpha 0.647189, a hinging mechanism); already at T = 0.3 the search certifies a half block
-sliding out alone at alpha = mu = 0.65, so no tie at b33 reaches 0.66. Earlier, weaker
-searches reported: the least certified multiplier of the tied wall rises with T (0.66 at T = 0.3)
+Measured with the LP engine as the core of the search: Ipopt designs T = 0.049028 for a
+target of 0.645, and the tied wall's least certified multiplier is 0.650334 (Ipopt's own
+point, 0.651634, is a collapse state but not the least): target met. At T = 1.0-1.5 the
+search certifies a half block sliding out alone at alpha = mu = 0.65, so no tie at b33
+reaches 0.66. Earlier, weaker searches reported: the least certified multiplier of the
+tied wall rises with T (0.66 at T = 0.3)
 (the whole wall sliding on the ground: alpha = 0.65 + T / 30) up to about 0.667 near
 T = 0.5; from T of about 0.55 on, the statics can hold b33 off the half block b28 below
 it, and a half block at the right end (b28, or b17 lower down: the same multiplier) slides

@@ -322,7 +322,7 @@ def _picture(outcome, results, dead_u=None) -> dict:
         moving = [b for b, m in zip(s.blocks, moving_blocks(s, dead_u)) if m]
         return dict(u=dead_u, modes=modes_from_mechanism(s, dead_u), highlight=moving,
                     title=f"{s.name}: unstable under dead load")
-    return dict(u=np.zeros((s.n_blocks, 3)), modes=["closed"] * s.n_contacts, alpha=None,
+    return dict(u=np.zeros((s.n_blocks, 3)), modes=["unknown"] * s.n_contacts, alpha=None,
                 certified=outcome.certified)
 
 

@@ -67,10 +67,12 @@ def report_html(structure, results, words, picture_svg, command, source, study=N
         title, key, df, plot_svg = study
         parts += [f"<h2>{html.escape(title)}</h2>", _table(df, df["governing"].astype(bool)),
                   f"<figure>{plot_svg}</figure>" if plot_svg else ""]
-    moving = results.contacts[results.contacts["mode"] != "closed"]
+    moving = results.contacts[~results.contacts["mode"].isin(["closed", "unknown"])]
     cols = ["contact", "block_a", "block_b", "mode", "N", "V", "M"]
+    known = results.certified or not (results.contacts["mode"] == "unknown").any()
     parts += ["<h2>Joints that move</h2>",
-              _table(moving[cols]) if len(moving) else "<p>none</p>"]
+              _table(moving[cols]) if len(moving) else
+              "<p>none</p>" if known else "<p>unknown: no collapse state was certified</p>"]
     units = s.units or {}
     inputs = pd.DataFrame([
         ("input file", source), ("movable blocks", s.n_blocks), ("supports", len(s.supports)),

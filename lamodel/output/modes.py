@@ -1,4 +1,5 @@
-"""The one classifier of contact modes: closed, sliding, hinging, sliding+hinging, open.
+"""The one classifier of contact modes: closed, sliding, hinging, sliding+hinging, open
+(and *unknown*: no certified collapse state, so nothing is known of the contact).
 
 A contact's mode is read from its strains ``q = (opening, slip, rotation)`` at the centre —
 from the flow multipliers (``q = G^T xi``) or from the block motions (``q = -A^T u``); the
@@ -9,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Contact modes of a mechanism (the ``mode`` column of contacts.csv).
-MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open")
+#: Contact modes of a mechanism (the ``mode`` column of contacts.csv); ``unknown`` when the
+#: run certified no collapse state (the forces are then empty, not zero).
+MODES = ("closed", "sliding", "hinging", "sliding+hinging", "open", "unknown")
 
 #: Motions smaller than this fraction of the largest one are taken as zero.
 RTOL = 1e-7

@@ -28,7 +28,7 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
     else:
         u = np.full((nb, 3), np.nan)
         N = V = M = np.full(nc, np.nan)
-        modes = ["closed"] * nc
+        modes = ["unknown"] * nc  # no mechanism: not "closed", which would claim one
     blocks = pd.DataFrame({
         "block": s.blocks, "x": s.centroid[:, 0], "y": s.centroid[:, 1],
         "dead_x": s.dead[:, 0], "dead_y": s.dead[:, 1], "live_x": s.live[:, 0], "live_y": s.live[:, 1],

@@ -64,6 +64,9 @@ CERTIFY_CAP_MIN = 1.0
 PRESSURE_SINGLE = 8
 
 
+_CAPPED = object()  # a certification cut short by its time cap: not an answer to remember
+
+
 # ======================================================================= the LP algebra
 def generator_matrix(structure: Structure) -> sp.csr_matrix:
     """T (3 nc x 4 nc): the four friction-cone generators of a contact as (N, V, M).
@@ -343,6 +346,8 @@ class GapSearch:
         self.deadline = deadline or Deadline()
         self.on_certified = on_certified
         self.on_state = None
+        self._certified = {}   # flow pattern -> certified state (or None)
+        self._descended = {}   # flow pattern of a certified state -> its descent
         self.rng = np.random.default_rng(seed)
         self.verbose = verbose
         self.t0 = time.perf_counter()
@@ -486,6 +491,19 @@ class GapSearch:
         flow = xi > 0
         if not flow.any():
             return None
+        # The answer depends on the flow pattern alone (hold its rows, min alpha; any
+        # mechanism with that pattern is then compatible with the statics): searches meet
+        # the same patterns again and again (wall55: 169 certifications, 33 patterns).
+        key = flow.tobytes()
+        if key in self._certified:
+            return self._certified[key]
+        state = self._certify(u, xi, flow, source)
+        if state is not _CAPPED:
+            self._certified[key] = state
+            return state
+        return None
+
+    def _certify(self, u, xi, flow, source):
         # Holding the rows by bounds makes the warm basis infeasible, and the primal phase 1
         # took minutes at 2040 blocks. Instead: (1) min w^T lambda, the gap of this
         # mechanism, from the current (feasible) basis; zero means the rows can be held;
@@ -494,9 +512,13 @@ class GapSearch:
         # solve times: a certification that hard is not worth it now.
         cap = max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
         status, x = self.statics(cost_lam=self.gap_weights(xi), alpha_cost=0.0, cap=cap)
+        if status == "time limit":
+            return _CAPPED
         if status != "optimal" or self.gap_weights(xi) @ x[:self.nl] > LP_TOLERANCE * max(1.0, x[-1]):
             return None
         status, x = self.statics(held=flow, cap=cap)
+        if status == "time limit":
+            return _CAPPED
         if status != "optimal":
             return None
         return self._accept(x, u, xi, flow, source)
@@ -555,6 +577,10 @@ class GapSearch:
     def descend(self, state, max_steps=30):
         """From a certified state: mechanisms restricted to its active rows, then a pressure
         step (release held rows whose lambdas the certification LP would like positive)."""
+        key = state.flow.tobytes()
+        if key in self._descended:  # a descent depends on the certified state alone
+            return self._descended[key]
+        start = state
         t = time.perf_counter()
         try:
             for _ in range(max_steps):
@@ -564,6 +590,7 @@ class GapSearch:
                 if nxt is None or nxt.alpha >= state.alpha - 1e-10 * max(1.0, state.alpha):
                     break
                 state = nxt
+            self._descended[key] = self._descended[start.flow.tobytes()] = state
         finally:
             self._phase("descend", t)
         return state

@@ -10,15 +10,12 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import Future, ProcessPoolExecutor, as_completed
-from concurrent.futures.process import BrokenProcessPool
+from concurrent.futures import Future, ProcessPoolExecutor
 
-import numpy as np
 
 from ..structure import Structure
-from .certify import certify, descend
 from .options import Deadline
-from .state import CollapseState, Run
+from .state import CollapseState
 
 #: epsilon ladder for the relaxed bilinear condition, as fractions of max(1, alpha)
 EPSILON_LADDER = (1e-3, 1e-5, 0.0)
@@ -183,46 +180,3 @@ def _ipopt_task(start_id, start: CollapseState, ladder, options, deadline: Deadl
     state, message, iterations = ipopt_ladder(_WORKER["model"], _WORKER["nlp"], _WORKER["structure"], start,
                                               ladder, options, deadline)
     return start_id, state, message, iterations, time.perf_counter() - t
-
-
-def ipopt_multistart(pool, lps, starts, archive, runs, opt, deadline):
-    """Solve eq. (5) from each start in the pool; certify each point into ``archive``;
-    one Run per start in ``runs`` (also for those the deadline or Ctrl-C stopped)."""
-    futures = {}
-    for i, st in enumerate(starts, start=1):
-        fut = pool.submit(_ipopt_task, i, st, EPSILON_LADDER, opt.ipopt_options, deadline)
-        futures[fut] = (i, st)
-    from tqdm import tqdm
-    bar = tqdm(total=len(futures), desc="Ipopt on eq. 5", unit="start", leave=False, disable=not opt.progress)
-    try:
-        for fut in as_completed(futures, timeout=None if deadline.at is None else max(deadline.left(), 0) + 30):
-            bar.update()
-            i, st = futures[fut]
-            source = f"ipopt from {st.source} (alpha {st.alpha:.6f})"
-            try:
-                _, (N, V, M, alpha, u, xi), message, iterations, seconds = fut.result()
-            except BrokenProcessPool:
-                runs.append(Run(i, source, status="worker died"))
-                continue
-            except Exception as exc:  # a failed solve is recorded, never fatal
-                runs.append(Run(i, source, status=f"failed: {type(exc).__name__}: {exc}"))
-                continue
-            state = certify(lps, N, V, M, alpha, u, xi, source="ipopt")
-            if state is not None:
-                state = descend(lps, state)
-                archive.add(state)
-            runs.append(Run(i, source, alpha, message, state.alpha if state else np.nan, iterations, seconds))
-    except TimeoutError:
-        pass
-    except KeyboardInterrupt:
-        for fut, (i, st) in futures.items():
-            if not any(r.start == i for r in runs):
-                runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="interrupted"))
-        raise
-    finally:
-        bar.close()
-    for fut, (i, st) in futures.items():
-        if not any(r.start == i for r in runs):
-            fut.cancel()
-            runs.append(Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})", status="time limit"))
-    runs.sort(key=lambda r: r.start)

@@ -380,6 +380,8 @@ def test_no_collapse_for_this_live_load(tmp_path, capfd):
     assert "no collapse for this live load" in p.stdout
     r = Results.read(folder)
     assert r.summary.status[0] == "no_collapse" and not r.certified and np.isnan(r.alpha)
+    # no mechanism: the contacts' modes are unknown and their forces empty, never "closed" with numbers
+    assert (r.contacts["mode"] == "unknown").all() and r.contacts[["N", "V", "M"]].isna().all().all()
 
 
 def test_held_block_has_no_mechanism_at_all():

@@ -108,7 +108,8 @@ def test_solve_on_a_dask_scheduler_gives_the_local_alpha(tmp_path, dask_cluster)
                      "--scheduler", dask_cluster.scheduler_address)
     assert local.returncode == 0 and remote.returncode == 0, local.stderr + remote.stderr
     a, b = (pd.read_csv(tmp_path / w / "runs.csv") for w in ("local", "dask"))
-    assert b.loc[1, "status"] in ("optimal", "acceptable")  # the Ipopt start ran, on the cluster
+    # the Ipopt start ran, on the cluster (its status is Ipopt's word; its point is certified)
+    assert b.loc[1, "source"].startswith("ipopt from") and b.loc[1, "iterations"] > 0, b.to_string()
     pd.testing.assert_frame_equal(a.drop(columns="seconds"), b.drop(columns="seconds"))
     sa, sb = (pd.read_csv(tmp_path / w / "summary.csv") for w in ("local", "dask"))
     assert sa.loc[0, "alpha"] == sb.loc[0, "alpha"] == pytest.approx(0.638982, abs=1e-6)
