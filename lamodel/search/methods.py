@@ -59,6 +59,9 @@ SLP_COHESION = 1e-5
 MPEC_LADDER = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 0.0)
 #: seed: default GA budget (population, generations); each individual is one Ipopt solve
 SEED_POP_SIZE, SEED_GENERATIONS = 4, 2
+#: seed: the epsilon ladder of each individual's Ipopt solve of eq. (5) (fractions of
+#: max(1, alpha); the last stage is eq. 5 exactly)
+SEED_LADDER = (0.0,)
 #: seed: an Ipopt point whose largest residual exceeds this is infeasible for eq. (5): its
 #: fitness is penalised (the GA needs a number for every individual)
 SEED_FEASIBILITY = 1e-5
@@ -320,7 +323,8 @@ def seed_ga(structure, options, lps, assoc, t0, deadline=Deadline(), pop_size=SE
             return penalty
         N, V, M, alpha = lps.split(res.x)
         start = CollapseState(alpha=alpha, N=N, V=V, M=M, u=u, xi=xi, flow=xi > 0)
-        raw, message, iterations = ipopt_ladder(model, nlp, structure, start, (0.0,), options.ipopt_options, deadline)
+        raw, message, iterations = ipopt_ladder(model, nlp, structure, start, SEED_LADDER, options.ipopt_options,
+                                                deadline)
         result.iterations += iterations
         worst = max(residuals(lps, *raw).values())
         value = raw[3] if worst <= SEED_FEASIBILITY else penalty + raw[3]
