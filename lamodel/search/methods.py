@@ -3,10 +3,11 @@ run on the same model and put through the same certification.
 
 * ``associative`` — the LP of max alpha over S (eq. 1-4) with associative (dilatant) flow:
   an upper bound on every collapse multiplier, exact when the mechanism only hinges.
-* ``successive-lp`` — Gilbert, Casapulla & Ahmed (2006), Comput. Struct. 84:873-887: each
-  joint gets a fictitious cohesion from the normal force of the previous LP and a
-  zero-dilatancy fictitious friction (shear capacity mu |N_prev|, independent of N); LP
-  after LP, from the associative solution, until the normal forces stop changing.
+* ``successive-lp`` — Gilbert, Casapulla & Ahmed (2006), Comput. Struct. 84:873-887: LP
+  after LP from the associative solution, each joint with a modified Mohr-Coulomb surface
+  through the Coulomb point of the previous (relaxed) normal force: a fictitious cohesion
+  and a small *negative* fictitious friction, driven towards zero, until the normal forces
+  stop changing (details and sources in :func:`successive_lp`).
 * ``mpec`` — Ferris & Tin-Loi (2001), Int. J. Mech. Sci. 43:209-224: the complementarity
   of flow and yield relaxed to xi^T slack <= rho, rho driven to zero through a sequence of
   NLPs (Ipopt, warm-started), from the associative solution. In eq. (5)
@@ -44,12 +45,23 @@ CHOICES = METHODS + ("all",)
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
 SLP_TOLERANCE = 1e-8
 #: successive LP: at most this many LPs after the associative one
-SLP_MAX_ITERATIONS = 200
+SLP_MAX_ITERATIONS = 300
+#: successive LP (Gilbert et al. 2006, parameters as in Wang & Beyer's implementation): the
+#: negative fictitious friction -a mu, a = SLP_ALPHA0 at the first LP, times SLP_ALPHA_FACTOR
+#: at each next one, down to SLP_ALPHA_MIN
+SLP_ALPHA0, SLP_ALPHA_FACTOR, SLP_ALPHA_MIN = 0.3, 0.5, 1e-3
+#: successive LP: the normal forces carried over are SLP_BETA N_k + (1 - SLP_BETA) N_{k-1}
+SLP_BETA = 0.6
+#: successive LP: the small cohesion c0, a fraction of the largest |N| of the associative LP
+SLP_COHESION = 1e-5
 #: MPEC: the relaxation rho (as a fraction of max(1, alpha)), divided by 10 from stage to
 #: stage as Ferris & Tin-Loi do, then 0 (eq. 5 exactly)
 MPEC_LADDER = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 0.0)
 #: seed: default GA budget (population, generations); each individual is one Ipopt solve
 SEED_POP_SIZE, SEED_GENERATIONS = 4, 2
+#: seed: the epsilon ladder of each individual's Ipopt solve of eq. (5) (fractions of
+#: max(1, alpha); the last stage is eq. 5 exactly)
+SEED_LADDER = (0.0,)
 #: seed: an Ipopt point whose largest residual exceeds this is infeasible for eq. (5): its
 #: fitness is penalised (the GA needs a number for every individual)
 SEED_FEASIBILITY = 1e-5
@@ -163,37 +175,110 @@ def associative(structure, options, lps, assoc, t0):
     return _finish(result, lps, (N, V, M, alpha, u, lam), t0, "upper bound (dilatant flow)")
 
 
+def _gilbert_lp(lps, a):
+    """LP of one iteration of Gilbert et al. (2006): max alpha, equilibrium, the hinge rows
+    of eq. 4, and at each contact the modified sliding rows ``+-V - a mu N <= cap`` (N <= 0
+    is compression), i.e. ``|V| <= cap - a mu |N|``: a fictitious friction coefficient
+    ``-a mu`` (negative) and a fictitious cohesion ``cap``, set per iteration (row bounds)."""
+    import scipy.sparse as sp
+    from .lp import INF, TIGHT_TOLERANCE, _HighsLP
+    nc = lps.nc
+    E = sp.hstack([lps.A, sp.csr_matrix(lps.fbar.reshape(-1, 1))])
+    I, Z, z = sp.identity(nc, format="csr"), sp.csr_matrix((nc, nc)), sp.csr_matrix((nc, 1))
+    aMu = sp.diags(-a * np.asarray(lps.structure.mu, dtype=float) * np.ones(nc))
+    slide = sp.bmat([[aMu, I, Z, z], [aMu, -I, Z, z]])
+    hinge = sp.hstack([lps.Y[2 * nc:], sp.csr_matrix((2 * nc, 1))])
+    cost = np.zeros(lps.nvar)
+    cost[-1] = -1.0
+    return _HighsLP(cost, sp.vstack([E, slide, hinge]),
+                    np.concatenate([-lps.f0, np.full(4 * nc, -INF)]), np.concatenate([-lps.f0, np.zeros(4 * nc)]),
+                    np.append(np.full(3 * nc, -INF), 0.0), np.full(3 * nc + 1, INF), TIGHT_TOLERANCE)
+
+
 def successive_lp(structure, options, lps, assoc, t0):
-    """Gilbert, Casapulla & Ahmed (2006). Reading of their procedure: LP k has, at every
-    joint, the shear capacity |V| <= mu |N_{k-1}| (a cohesion from the previous normal
-    force, friction angle zero: no dilatancy), the no-tension/eccentricity rows of eq. 4
-    unchanged; N_0 from the associative LP; stop when max |N_k - N_{k-1}| is below
-    SLP_TOLERANCE of the largest load. A converged LP is a collapse state by the seed's
-    second theorem (cohesion -mu N of its own normal forces)."""
+    """Gilbert, Casapulla & Ahmed (2006), Comput. Struct. 84:873-887: LP after LP, each joint
+    with a modified Mohr-Coulomb surface through the Coulomb point of the normal force
+    carried over from the previous LP.
+
+    What is followed, and where it comes from. The paper's abstract: "a specially modified
+    Mohr-Coulomb failure surface is adopted at each contact interface, with all failure
+    surfaces updated at each iteration until a converged solution is obtained", starting
+    from the associative LP. The details are those of the public implementation of the
+    procedure by Q. Wang & K. Beyer (github.com/qianqing-wanggg/Image2Block,
+    source/Kinematics/solve/finitefc_nonassociative.py, which cites the paper): at LP k
+    every contact has
+
+        |V| <= c0 + (1 + a_k) mu |N_hat| - a_k mu |N|
+
+    i.e. a *negative* fictitious friction coefficient -a_k mu and a fictitious cohesion
+    c0 + (1 + a_k) mu |N_hat|, so that the surface passes through the Coulomb point
+    (|N_hat|, mu |N_hat|) (plus c0) and any extra compression lowers, not raises, the shear
+    capacity; a_k = max(SLP_ALPHA0 * SLP_ALPHA_FACTOR^(k-1), SLP_ALPHA_MIN) (0.3, halved each
+    LP, down to 0.001); the normal forces carried over are relaxed,
+    N_hat_k = SLP_BETA N_k + (1 - SLP_BETA) N_{k-1} (0.6), N_k the LP's own; c0 is a small
+    cohesion "required to avoid uncontrollable penetration potentially resulting when the
+    normal force at a contact is zero" (the comment there, citing the paper), here
+    SLP_COHESION times the largest |N| of the associative LP (1e-5, as there).
+
+    What differs (ours, not the paper's or that implementation's): the stop is
+    max |N_k - N_{k-1}| <= SLP_TOLERANCE of the largest block load once a_k = a_min (there:
+    a relative change of the multiplier below 1e-4, at most 10 LPs), at most
+    SLP_MAX_ITERATIONS LPs; an infeasible LP (a contact whose N_hat is ~0 cannot carry the
+    compression equilibrium needs once a_k > 0) is retried with a_k halved (then 0) from the
+    same N_hat, where that implementation returns the previous LP's answer. Setting
+    SLP_ALPHA0 = SLP_COHESION = 0 and SLP_BETA = 1 gives the basic iteration (cohesion
+    mu |N_prev|, zero fictitious friction).
+
+    The raw answer is the last LP's statics and the mechanism of its duals: a collapse state
+    of the modified surfaces (a_min = 0.001, cohesion c0), not exactly of the frictional
+    assembly (its compatibility residual is ~a_min mu); the certification says which."""
     from .certify import force_scale
+    from .lp import INF
     result = MethodResult("successive-lp", structure, alpha_associative=assoc.alpha, seed=options.seed)
-    N = lps.split(assoc.x)[0]
+    nb, nc, mu = lps.nb, lps.nc, np.asarray(structure.mu, dtype=float)
+    N_prev = N_hat = lps.split(assoc.x)[0]
+    c0 = SLP_COHESION * float(np.abs(N_prev).max())
     tol = SLP_TOLERANCE * force_scale(lps)
-    raw, change, converged, k = None, np.inf, False, 0
-    for k in range(1, SLP_MAX_ITERATIONS + 1):
-        res, u, xi = lps.cohesive(-structure.mu * N)
+    a, lp, lp_a = SLP_ALPHA0, None, None
+    raw, change, converged, retries, k, res = None, np.inf, False, 0, 0, None
+    rows = np.arange(3 * nb, 3 * nb + 2 * nc)
+    while k < SLP_MAX_ITERATIONS:
+        k += 1
+        if lp is None or lp_a != a:
+            lp, lp_a = _gilbert_lp(lps, a), a
+        cap = c0 - (1.0 + a) * mu * np.minimum(N_hat, 0.0)
+        lp.set_row_bounds(rows, np.full(2 * nc, -INF), np.concatenate([cap, cap]))
+        res = lps._run(lp)
         if not res.ok:
+            if res.status == "infeasible" and a > 0:
+                a = a / 2 if a / 2 >= SLP_ALPHA_MIN else 0.0
+                retries += 1
+                continue
             break
-        N_new, V, M, alpha = lps.split(res.x)
-        change = float(np.abs(N_new - N).max())
-        N, raw = N_new, (N_new, V, M, alpha, u, xi)
-        if change <= tol:
+        N, V, M, alpha = lps.split(res.x)
+        u = -res.row_dual[:3 * nb]
+        xi = np.maximum(-res.row_dual[3 * nb:], 0.0)  # slide+, slide-, hinge+, hinge-
+        raw = (N, V, M, alpha, u, xi)
+        change = float(np.abs(N - N_prev).max())
+        N_hat = SLP_BETA * N + (1.0 - SLP_BETA) * N_prev
+        N_prev = N
+        if change <= tol and a <= SLP_ALPHA_MIN:
             converged = True
             break
+        a = max(a * SLP_ALPHA_FACTOR, SLP_ALPHA_MIN) if a > 0 else 0.0
     result.iterations = 1 + k
     if raw is None:
         result.notes, result.status = f"LP 1 failed ({res.status})", "failed"
         result.seconds = time.perf_counter() - t0
         return result
     status = (f"converged after {k} LPs" if converged
-              else f"not converged: max |dN| {change:.1e} after {k} LPs")
-    result.runs = [Run(0, "successive LP from the associative solution", raw[3], status, np.nan, result.iterations,
-                       time.perf_counter() - t0)]
+              else f"not converged: max |dN| {change:.1e} after {k} LPs"
+              + ("" if res is None or res.ok else f" (last LP {res.status})"))
+    if retries:
+        status += f" ({retries} infeasible LPs retried with a smaller fictitious friction)"
+    status += f"; final fictitious friction -{a:g} mu, cohesion {c0:.1e}"
+    result.runs = [Run(0, "successive LP (Gilbert et al. 2006) from the associative solution", raw[3], status,
+                       np.nan, result.iterations, time.perf_counter() - t0)]
     return _finish(result, lps, raw, t0, status)
 
 
@@ -238,7 +323,8 @@ def seed_ga(structure, options, lps, assoc, t0, deadline=Deadline(), pop_size=SE
             return penalty
         N, V, M, alpha = lps.split(res.x)
         start = CollapseState(alpha=alpha, N=N, V=V, M=M, u=u, xi=xi, flow=xi > 0)
-        raw, message, iterations = ipopt_ladder(model, nlp, structure, start, (0.0,), options.ipopt_options, deadline)
+        raw, message, iterations = ipopt_ladder(model, nlp, structure, start, SEED_LADDER, options.ipopt_options,
+                                                deadline)
         result.iterations += iterations
         worst = max(residuals(lps, *raw).values())
         value = raw[3] if worst <= SEED_FEASIBILITY else penalty + raw[3]
