@@ -146,3 +146,21 @@ def test_every_instance_certifies_from_dat_and_json_alike(name):
     assert a.certified and b.certified
     assert a.best.alpha == pytest.approx(b.best.alpha, abs=1e-9)
     assert a.best.alpha <= a.alpha_associative + 1e-9
+
+
+def test_time_limit_is_honoured_on_a_larger_wall():
+    """A 255-block wall (its search takes far longer than the limit): the driver stops within
+    max(10 %, 2 s) of --time-limit (measured: well under), with a certified state or an
+    honest status, never a crash."""
+    import time
+    rows = [[0.5] + [1] * 24 + [0.5] if r % 2 == 0 else [1] * 25 for r in range(10)]
+    s = structure_from_json(running_bond_wall(rows, name="bond10"))
+    for limit in (0.3, 2.0):
+        t = time.perf_counter()
+        o = solve(s, SolveOptions(time_limit=limit, progress=False))
+        elapsed = time.perf_counter() - t
+        assert elapsed < limit + 2.0 + 1.0, elapsed  # +1 s of slack for a loaded test machine
+        assert o.status in ("certified", "not_certified"), o.message
+        assert "time limit" in o.message
+        if o.certified:
+            assert o.best.alpha <= o.alpha_associative + 1e-9
