@@ -25,6 +25,7 @@ the user's units, each re-checked by :func:`lamodel.search.certify.residuals`.
 """
 from __future__ import annotations
 
+import atexit
 import signal
 import threading
 import time
@@ -62,6 +63,26 @@ CERTIFY_CAP_FACTOR = 5.0
 CERTIFY_CAP_MIN = 1.0
 #: Pressure step: how many of the most pushing held rows are tried one by one.
 PRESSURE_SINGLE = 8
+#: While HiGHS runs (in a worker thread) the caller checks the deadline this often (s).
+WAIT_SLICE = 0.05
+#: LPs with at most this many columns run in the calling thread: every solve takes
+#: milliseconds and HiGHS's interrupt callback suffices, where a thread costs ~1 ms a solve.
+INLINE_COLUMNS = IPM_COLUMNS
+#: At interpreter exit, wait at most this long (s) for abandoned HiGHS solves to end.
+ABANDONED_EXIT_WAIT = 5.0
+
+_abandoned: list[threading.Thread] = []
+
+
+@atexit.register
+def _join_abandoned():
+    """An abandoned solve whose thread returns from HiGHS while the interpreter finalises
+    is killed inside pybind11's GIL re-acquisition and aborts the process ("terminate
+    called without an active exception", exit 134). Before finalising, give those solves
+    (interrupted: they stop at HiGHS's next callback) a bounded time to end."""
+    end = time.monotonic() + ABANDONED_EXIT_WAIT
+    for t in _abandoned:
+        t.join(max(0.0, end - time.monotonic()))
 
 
 # ======================================================================= the LP algebra
@@ -151,7 +172,16 @@ class Checker:
 
 # ============================================================================ HiGHS
 class _LP:
-    """min c^T x, A x = b, lo <= x <= hi, warm-started, interruptible, with exact duals."""
+    """min c^T x, A x = b, lo <= x <= hi, warm-started, interruptible, with exact duals.
+
+    Every HiGHS ``run()`` happens in a worker thread (highspy releases the GIL) while the
+    calling thread waits in slices of WAIT_SLICE s and checks the deadline (small LPs,
+    at most INLINE_COLUMNS columns, run inline: milliseconds each): a stop takes
+    effect within a slice even where HiGHS calls no interrupt callback (IPX's crossover,
+    presolve). The abandoned solve goes on in its thread until HiGHS notices the
+    interrupt; its object is marked ``abandoned`` and never touched again (every later
+    call raises :class:`Stopped`), so an engine is unusable after a Stopped.
+    """
 
     def __init__(self, A, b, cost, lo, hi, deadline: Deadline, name=""):
         self.A = sp.csc_matrix(A)
@@ -182,12 +212,49 @@ class _LP:
         self.seconds = 0.0
         self.trace = None  # a print-like function to log every solve
         self.warm_seconds = None  # running mean of the solve times
+        self.abandoned = False
 
     def _interrupt(self, e):
-        if self.deadline.expired():
+        if self.abandoned or self.deadline.expired():
             e.interrupt()
 
+    def _usable(self):
+        if self.abandoned:
+            raise Stopped()
+
+    def _run(self):
+        """``h.run()`` in a worker thread, waited for in slices; raises Stopped (and
+        abandons this HiGHS object) when the deadline fires or the wait is interrupted."""
+        self._usable()
+        if self.n <= INLINE_COLUMNS:
+            self.h.run()
+            return
+        done = threading.Event()
+        failure = []
+
+        def work():
+            try:
+                self.h.run()
+            except BaseException as e:  # pragma: no cover - HiGHS raising is a bug to report
+                failure.append(e)
+            finally:
+                done.set()
+
+        thread = threading.Thread(target=work, name=f"highs-{self.name}", daemon=True)
+        thread.start()
+        try:
+            while not done.wait(WAIT_SLICE):
+                if self.deadline.expired():
+                    raise Stopped()
+        except BaseException:  # Stopped, or KeyboardInterrupt without a handler
+            self.abandoned = True
+            _abandoned[:] = [t for t in _abandoned if t.is_alive()] + [thread]
+            raise
+        if failure:
+            raise failure[0]
+
     def set_cost(self, cost):
+        self._usable()
         cost = np.asarray(cost, float)
         changed = np.flatnonzero(cost != self.cost)
         if changed.size:
@@ -195,6 +262,7 @@ class _LP:
             self.cost = cost.copy()
 
     def set_bounds(self, lo, hi):
+        self._usable()
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
         changed = np.flatnonzero((lo != self.lo) | (hi != self.hi))
         if changed.size:
@@ -207,6 +275,7 @@ class _LP:
         ``cap`` (s) bounds this solve alone: past it the status is 'time limit' and the
         search goes on (a certification LP that would take minutes is not worth it).
         """
+        self._usable()
         self.deadline.check()
         h = self.h
         start = h.getBasis() if cap is not None and not self.cold else None
@@ -228,18 +297,18 @@ class _LP:
                 h.setOptionValue(option, 1e-7)
             h.setOptionValue("solver", "ipm")
             h.setOptionValue("run_crossover", "on")
-            h.run()
+            self._run()
             for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
                 h.setOptionValue(option, LP_TOLERANCE)
             if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
                 h.setOptionValue("solver", "simplex")
                 h.setOptionValue("simplex_strategy", 4)
-                h.run()
+                self._run()
         else:
             h.setOptionValue("solver", "simplex")
             # Warm re-solves: primal simplex (the dual was 10-100x slower on these LPs).
             h.setOptionValue("simplex_strategy", 1 if self.cold else 4)
-            h.run()
+            self._run()
         was_cold, self.cold = self.cold, False
         self.n_solves += 1
         dt = time.perf_counter() - t
@@ -269,7 +338,7 @@ class _LP:
             h.setOptionValue("solver", "simplex")
             h.setOptionValue("simplex_strategy", 1)
             h.setOptionValue("presolve", "off")
-            h.run()
+            self._run()
             h.setOptionValue("presolve", "choose")
             st = h.getModelStatus()
             if st in (S.kInterrupt, S.kTimeLimit):
