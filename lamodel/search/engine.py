@@ -429,7 +429,9 @@ class GapSearch:
         self.Slam = (-(self.Y @ self.T)).tocsr()  # yield slacks = Slam @ lambda (>= 0)
         assert self.Slam.min() >= 0
         # held row r <-> the lambdas of its slack fixed at 0 (two per row)
-        self.held_lams = [self.Slam.getrow(r).indices for r in range(4 * nc)]
+        self.Slam.sort_indices()
+        assert np.all(np.diff(self.Slam.indptr) == 2)
+        self.held_lams = self.Slam.indices.reshape(-1, 2)  # row r: its two lambdas
         self.row_of_pair = sp.csr_matrix((np.ones(self.Slam.nnz), self.Slam.nonzero()), shape=self.Slam.shape)
         Ag = sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)]).tocsc()
         self.nl = 4 * nc
@@ -489,7 +491,7 @@ class GapSearch:
             cost[:self.nl] = cost_lam
         hi = np.full(self.nl + 1, INF)
         if held is not None and held.any():
-            hi[np.concatenate([self.held_lams[r] for r in np.flatnonzero(held)])] = 0.0
+            hi[self.held_lams[held].ravel()] = 0.0
         self.stat.set_cost(cost)
         self.stat.set_bounds(np.zeros(self.nl + 1), hi)
         status = self.stat.solve(cap)
@@ -658,7 +660,7 @@ class GapSearch:
         _, z = self.stat.exact_duals()
         zl = z[:self.nl]
         held_lams = np.zeros(self.nl, bool)
-        held_lams[np.concatenate([self.held_lams[r] for r in np.flatnonzero(state.flow)])] = True
+        held_lams[self.held_lams[state.flow].ravel()] = True
         push = np.where(held_lams & (zl < -1e-12), -zl, 0.0)
         if not push.any():
             return None
