@@ -54,6 +54,9 @@ RHO_MAIN = (1e3, 1e4)
 RHO_LOW = (2.0, 10.0, 100.0, 1e3)
 #: Below this gap (times max(1, alpha)) a mechanism step forbids flow on slack rows.
 GAP_FORBID = 1e-6
+#: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold
+#: step (see GapSearch.alternate).
+GAP_HOLD = float(__import__("os").environ.get("LAM_GAP_HOLD", 1e-6))
 #: Flows below this fraction of the largest are zero (they cost compatibility <= this).
 FLOW_TOL = 1e-9
 #: Relative thresholds on slack used to call a row active when restricting mechanisms.
@@ -350,6 +353,46 @@ class _LP:
     def x(self) -> np.ndarray:
         return np.array(self.h.getSolution().col_value)
 
+    def _basis_matrix(self):
+        """(B, cols, rows): the basis matrix (basic columns, then unit columns of basic
+        rows), or None if HiGHS's basis is not a square basis."""
+        basis = self.h.getBasis()
+        B = highspy.HighsBasisStatus.kBasic
+        cols = np.flatnonzero(np.fromiter((s == B for s in basis.col_status), bool, self.n))
+        rows = np.flatnonzero(np.fromiter((s == B for s in basis.row_status), bool, self.m))
+        if cols.size + rows.size != self.m:
+            return None, cols, rows
+        Bm = sp.hstack([self.A[:, cols], sp.csc_matrix((np.ones(rows.size), (rows, np.arange(rows.size))),
+                                                       shape=(self.m, rows.size))]).tocsc()
+        return Bm, cols, rows
+
+    def exact_x(self) -> np.ndarray:
+        """The primal solution recomputed from the final basis: nonbasic columns at their
+        bound, ``B x_B = b - A_N x_N`` by a sparse LU solve.
+
+        HiGHS's own solution satisfies the rows to its tolerance on its scaled model only:
+        at 1020 blocks a warm statics solve left equilibrium residuals of 5e-7..5e-6
+        (relative), which failed the certification of exact collapse states.
+        """
+        x = self.x()
+        Bm, cols, rows = self._basis_matrix()
+        if Bm is None:
+            return x
+        xn = np.clip(x, self.lo, self.hi)
+        xn[cols] = 0.0
+        rhs = self.b - self.A @ xn
+        try:
+            xb = splu(Bm).solve(rhs)
+        except RuntimeError:
+            return x
+        if rows.size and np.abs(xb[cols.size:]).max() > 1e-9 * max(1.0, np.abs(xb).max()):
+            return x  # a basic equality row off its value: keep HiGHS's
+        xn[cols] = xb[:cols.size]
+        if np.any(xn[cols] < self.lo[cols] - 1e-9 * max(1.0, np.abs(xb).max())) or \
+                np.any(xn[cols] > self.hi[cols] + 1e-9 * max(1.0, np.abs(xb).max())):
+            return x
+        return np.clip(xn, self.lo, self.hi)
+
     def exact_duals(self):
         """(y, z): row duals and reduced costs from the final basis, by a sparse LU solve.
 
@@ -357,16 +400,11 @@ class _LP:
         basic columns (and unit columns for basic rows, whose duals are 0) makes
         ``z = c - A^T y`` vanish on basic columns to round-off.
         """
-        basis = self.h.getBasis()
-        B = highspy.HighsBasisStatus.kBasic
-        cols = np.flatnonzero(np.fromiter((s == B for s in basis.col_status), bool, self.n))
-        rows = np.flatnonzero(np.fromiter((s == B for s in basis.row_status), bool, self.m))
-        if cols.size + rows.size != self.m:
+        Bm, cols, rows = self._basis_matrix()
+        if Bm is None:
             sol = self.h.getSolution()
             y = np.array(sol.row_dual)
             return y, self.cost - self.A.T @ y
-        Bm = sp.hstack([self.A[:, cols], sp.csc_matrix((np.ones(rows.size), (rows, np.arange(rows.size))),
-                                                       shape=(self.m, rows.size))]).tocsc()
         rhs = np.concatenate([self.cost[cols], np.zeros(rows.size)])
         try:
             y = splu(Bm.T.tocsc()).solve(rhs)
@@ -562,14 +600,19 @@ class GapSearch:
         # (2) then the held lambdas are already zero, so bounding them keeps the basis
         # feasible, and min alpha is a warm primal solve. Each is capped at a few typical
         # solve times: a certification that hard is not worth it now.
-        cap = max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
+        cap = self._cap()
         status, x = self.statics(cost_lam=self.gap_weights(xi), alpha_cost=0.0, cap=cap)
         if status != "optimal" or self.gap_weights(xi) @ x[:self.nl] > LP_TOLERANCE * max(1.0, x[-1]):
             return None
         status, x = self.statics(held=flow, cap=cap)
         if status != "optimal":
             return None
+        x = self.stat.exact_x()  # equilibrium to round-off, not to HiGHS's tolerance
         return self._accept(x, u, xi, flow, source)
+
+    def _cap(self):
+        """Time cap (s) of a statics LP that may be hard (certification, hold step)."""
+        return max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
 
     def _accept(self, x, u, xi, flow, source):
         s = self.forces(x)
@@ -578,6 +621,9 @@ class GapSearch:
                               u=u.copy(), xi=np.where(flow, xi, 0.0), flow=flow.copy(), source=source)
         state.residual = self.check_scaled.residuals(state)
         if max(state.residual.values()) > RESIDUAL_TOLERANCE:
+            if self.verbose > 1:
+                bad = {k: f"{v:.1e}" for k, v in state.residual.items() if v > RESIDUAL_TOLERANCE}
+                print(f"{self.elapsed():8.2f}   rejected alpha {state.alpha:.7f}: {bad}", flush=True)
             return None
         state.lam = x  # kept for warm descents (not part of the user state)
         self._record(state)
@@ -712,6 +758,22 @@ class GapSearch:
                     gap = float(self.gap_weights(xi) @ x[:self.nl])
                     tight = self.active_rows(x, ACTIVE_TOLS[0])
                     slack_flow = (xi > 0) & ~tight
+                    if slack_flow.any() and gap <= GAP_HOLD * max(1.0, alpha) and not forbid_slack:
+                        # Hold step. Near convergence the least-alpha_K mechanism flows, a
+                        # little (1e-8..3e-7 of its largest flow at 1020 blocks), on a few rows
+                        # this statics keeps slack, and no statics holds them all: the gap step
+                        # stalls at a gap ~1e-8 (the rho-weights of those rows are negligible).
+                        # Hold at equality the rows it flows on that are already tight and
+                        # minimise alpha: x stays feasible (warm), alpha falls, and the next
+                        # mechanism often flows only on tight rows (gap exactly 0: certified).
+                        st_h, xh = self.statics(held=(xi > 0) & tight, cap=self._cap())
+                        if self.verbose > 1:
+                            print(f"{self.elapsed():8.2f}   hold: alpha {alpha:.7f} gap {gap:.2e} slack flows "
+                                  f"{int(slack_flow.sum())} -> {st_h} {xh[-1] if xh is not None else ''}", flush=True)
+                        if st_h == "optimal" and xh[-1] < alpha - 1e-12 * max(1.0, alpha):
+                            x = xh
+                            obj_prev = INF
+                            continue
                     if slack_flow.any() and gap <= GAP_FORBID * max(1.0, alpha):
                         # Near convergence the least-alpha_K mechanism still flows, slightly,
                         # on rows this statics keeps slack (2040 blocks: flows ~3e-7 of the
