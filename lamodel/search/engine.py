@@ -771,8 +771,7 @@ class GapSearch:
                             print(f"{self.elapsed():8.2f}   hold: alpha {alpha:.7f} gap {gap:.2e} slack flows "
                                   f"{int(slack_flow.sum())} -> {st_h} {xh[-1] if xh is not None else ''}", flush=True)
                         if st_h == "optimal" and xh[-1] < alpha - 1e-12 * max(1.0, alpha):
-                            x = xh
-                            obj_prev = INF
+                            x = xh  # (obj_prev kept: the rho ladder still ends on a stall)
                             continue
                     if slack_flow.any() and gap <= GAP_FORBID * max(1.0, alpha):
                         # Near convergence the least-alpha_K mechanism still flows, slightly,
