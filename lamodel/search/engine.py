@@ -837,7 +837,9 @@ class GapSearch:
         best = self.certify(u, xi, source)
         if best is not None:
             best = self.descend(best)
-        status, x = self.statics(cost_lam=RHO_MAIN[0] * self.gap_weights(xi))
+        # capped: from a far perturbation the first gap step can take 10 s at 1020 blocks
+        # (12,000 iterations), the time of many cheaper perturbations
+        status, x = self.statics(cost_lam=RHO_MAIN[0] * self.gap_weights(xi), cap=self._cap())
         if status == "optimal":
             st, _ = self.alternate(x, source=source)
             if st is not None and (best is None or st.alpha < best.alpha):
