@@ -253,3 +253,28 @@ def test_stop_where_highs_calls_no_callback():
         eng.start()
     assert time.perf_counter() - t < 5.0
     assert eng.stat.abandoned
+
+
+def test_exact_primal_from_the_basis():
+    """The statics recomputed from HiGHS's final basis satisfies equilibrium to round-off
+    (HiGHS's own solution only to its tolerance on its scaled model), keeps the bounds,
+    and has the same alpha."""
+    s = bond(10)
+    eng = GapSearch(s)
+    status, _, x = eng.start()
+    assert status == "ok"
+    xe = eng.stat.exact_x()
+    scale = max(1.0, np.abs(xe).max())
+    assert np.abs(eng.stat.A @ xe - eng.stat.b).max() <= 1e-12 * scale
+    assert (xe >= 0).all()
+    assert xe[-1] == pytest.approx(x[-1], abs=1e-8)
+
+
+def test_medium_wall_certified_and_checked():
+    """A 255-block running-bond wall: a certified state whose statics and mechanism pass
+    the independent check (the gap alternation with its hold step, then descents)."""
+    s = bond(10)
+    res = search(s, time_limit=60, handle_sigint=False)
+    assert res.status == "certified"
+    assert res.alpha <= res.associative
+    assert collapse_violation(s, res.best) <= 1e-7
