@@ -56,7 +56,7 @@ RHO_LOW = (2.0, 10.0, 100.0, 1e3)
 GAP_FORBID = 1e-6
 #: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold
 #: step (see GapSearch.alternate).
-GAP_HOLD = float(__import__("os").environ.get("LAM_GAP_HOLD", 1e-6))
+GAP_HOLD = 1e-6
 #: Flows below this fraction of the largest are zero (they cost compatibility <= this).
 FLOW_TOL = 1e-9
 #: Relative thresholds on slack used to call a row active when restricting mechanisms.
