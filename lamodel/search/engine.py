@@ -17,6 +17,13 @@ Every step is a linear program solved by HiGHS and warm-started:
   Feasible means an exact collapse state (the seed's second theorem): statics admissible,
   mechanism compatible with ``fbar^T u = 1``, flow only on held rows, ``alpha = alpha_K``.
 
+* **Hold step** (when the gap stalls near 1e-8 with a few rows flowing while slack):
+  min alpha with the rows the mechanism flows on that the statics already holds kept
+  at equality; the next mechanism often flows on tight rows only.
+* Certified statics are recomputed exactly from HiGHS's final basis (equilibrium to
+  round-off), and every long HiGHS run happens in a worker thread so that a stop takes
+  effect within WAIT_SLICE s (an engine is unusable after it raised Stopped).
+
 The search alternates the two from the associative solution, descends from every
 certified state, and explores perturbed cohesions ``c exp(sigma z)`` and the seed's
 fixed-point chain until its budget or its stopping rule. Numbers are non-dimensional
