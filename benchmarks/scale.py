@@ -57,13 +57,31 @@ def build(case: str):
 
 
 # ------------------------------------------------------------------------ runs
-def run_case(case, budget, seed, queue):
+def run_case(case, budget, seed, queue, sigint_at=None):
+    import os
+    import signal
+    import threading
     from lamodel.search.engine import GapSearch, Deadline
     s = build(case)
     t0 = time.perf_counter()
-    eng = GapSearch(s, Deadline.after(budget if budget > 0 else None), seed=seed)
+    deadline = Deadline.after(budget if budget > 0 else None)
+    sent = []
+    if sigint_at is not None:
+        # Ctrl-C as search() handles it: the handler sets the deadline's flag
+        def on_sigint(signum, frame):
+            deadline.flag = True
+        signal.signal(signal.SIGINT, on_sigint)
+
+        def send():
+            sent.append(time.perf_counter())
+            os.kill(os.getpid(), signal.SIGINT)
+        timer = threading.Timer(sigint_at, send)
+        timer.daemon = True
+        timer.start()
+    eng = GapSearch(s, deadline, seed=seed)
     t_build = time.perf_counter() - t0
     res = eng.run()
+    latency = time.perf_counter() - sent[0] if sent else np.nan
     row = dict(case=case, blocks=s.n_blocks, contacts=s.n_contacts, status=res.status,
                assoc=res.associative, t_assoc=eng.phases.get("associative", np.nan) + t_build,
                first=res.first_alpha, t_first=res.first_time, best=res.alpha, t_best=res.history[-1][0]
@@ -71,7 +89,7 @@ def run_case(case, budget, seed, queue):
                phases={k: round(v, 2) for k, v in res.phases.items()},
                rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
                residual=max(res.best.residual.values()) if res.best else np.nan,
-               interrupted=res.interrupted)
+               interrupted=res.interrupted, latency=latency)
     queue.put(row)
 
 
@@ -81,6 +99,9 @@ def main(argv=None):
     ap.add_argument("--budget", type=float, default=60.0, help="time limit per case (s); 0: none")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", help="append the rows to this JSON-lines file")
+    ap.add_argument("--sigint-at", type=float, help="send SIGINT (Ctrl-C) this many seconds after the "
+                    "engine's construction starts; the row ends with the latency (s) from the signal to "
+                    "the engine's return")
     a = ap.parse_args(argv)
     ctx = mp.get_context("fork")
     rows = []
@@ -89,7 +110,7 @@ def main(argv=None):
     print(head, flush=True)
     for case in a.cases.split(","):
         q = ctx.Queue()
-        p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q))
+        p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q, a.sigint_at))
         p.start()
         row = q.get()
         p.join()
@@ -97,7 +118,8 @@ def main(argv=None):
         print(f"{row['case']:8} {row['blocks']:6d} {row['contacts']:5d} {row['assoc']:9.6f} {row['t_assoc']:6.2f} "
               f"{row['first']:9.6f} {row['t_first']:7.2f} {row['best']:9.6f} {row['t_best']:7.2f} "
               f"{row['total']:7.2f} {row['lps']:5d} {row['rss_mb']:6.0f}  {row['phases']}"
-              f"  [{row['status']}{', stopped' if row['interrupted'] else ''}]", flush=True)
+              f"  [{row['status']}{', stopped' if row['interrupted'] else ''}]"
+              + (f"  Ctrl-C latency {row['latency']:.2f} s" if a.sigint_at is not None else ""), flush=True)
         if a.json:
             with open(a.json, "a") as f:
                 f.write(json.dumps(row, default=float) + "\n")

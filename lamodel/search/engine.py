@@ -17,6 +17,13 @@ Every step is a linear program solved by HiGHS and warm-started:
   Feasible means an exact collapse state (the seed's second theorem): statics admissible,
   mechanism compatible with ``fbar^T u = 1``, flow only on held rows, ``alpha = alpha_K``.
 
+* **Hold step** (when the gap stalls near 1e-8 with a few rows flowing while slack):
+  min alpha with the rows the mechanism flows on that the statics already holds kept
+  at equality; the next mechanism often flows on tight rows only.
+* Certified statics are recomputed exactly from HiGHS's final basis (equilibrium to
+  round-off), and every long HiGHS run happens in a worker thread so that a stop takes
+  effect within WAIT_SLICE s (an engine is unusable after it raised Stopped).
+
 The search alternates the two from the associative solution, descends from every
 certified state, and explores perturbed cohesions ``c exp(sigma z)`` and the seed's
 fixed-point chain until its budget or its stopping rule. Numbers are non-dimensional
@@ -25,6 +32,7 @@ the user's units, each re-checked by :func:`lamodel.search.certify.residuals`.
 """
 from __future__ import annotations
 
+import atexit
 import signal
 import threading
 import time
@@ -53,6 +61,9 @@ RHO_MAIN = (1e3, 1e4)
 RHO_LOW = (2.0, 10.0, 100.0, 1e3)
 #: Below this gap (times max(1, alpha)) a mechanism step forbids flow on slack rows.
 GAP_FORBID = 1e-6
+#: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold
+#: step (see GapSearch.alternate).
+GAP_HOLD = 1e-6
 #: Flows below this fraction of the largest are zero (they cost compatibility <= this).
 FLOW_TOL = 1e-9
 #: Relative thresholds on slack used to call a row active when restricting mechanisms.
@@ -62,6 +73,26 @@ CERTIFY_CAP_FACTOR = 5.0
 CERTIFY_CAP_MIN = 1.0
 #: Pressure step: how many of the most pushing held rows are tried one by one.
 PRESSURE_SINGLE = 8
+#: While HiGHS runs (in a worker thread) the caller checks the deadline this often (s).
+WAIT_SLICE = 0.05
+#: LPs with at most this many columns run in the calling thread: every solve takes
+#: milliseconds and HiGHS's interrupt callback suffices, where a thread costs ~1 ms a solve.
+INLINE_COLUMNS = IPM_COLUMNS
+#: At interpreter exit, wait at most this long (s) for abandoned HiGHS solves to end.
+ABANDONED_EXIT_WAIT = 5.0
+
+_abandoned: list[threading.Thread] = []
+
+
+@atexit.register
+def _join_abandoned():
+    """An abandoned solve whose thread returns from HiGHS while the interpreter finalises
+    is killed inside pybind11's GIL re-acquisition and aborts the process ("terminate
+    called without an active exception", exit 134). Before finalising, give those solves
+    (interrupted: they stop at HiGHS's next callback) a bounded time to end."""
+    end = time.monotonic() + ABANDONED_EXIT_WAIT
+    for t in _abandoned:
+        t.join(max(0.0, end - time.monotonic()))
 
 
 _CAPPED = object()  # a certification cut short by its time cap: not an answer to remember
@@ -154,7 +185,16 @@ class Checker:
 
 # ============================================================================ HiGHS
 class _LP:
-    """min c^T x, A x = b, lo <= x <= hi, warm-started, interruptible, with exact duals."""
+    """min c^T x, A x = b, lo <= x <= hi, warm-started, interruptible, with exact duals.
+
+    Every HiGHS ``run()`` happens in a worker thread (highspy releases the GIL) while the
+    calling thread waits in slices of WAIT_SLICE s and checks the deadline (small LPs,
+    at most INLINE_COLUMNS columns, run inline: milliseconds each): a stop takes
+    effect within a slice even where HiGHS calls no interrupt callback (IPX's crossover,
+    presolve). The abandoned solve goes on in its thread until HiGHS notices the
+    interrupt; its object is marked ``abandoned`` and never touched again (every later
+    call raises :class:`Stopped`), so an engine is unusable after a Stopped.
+    """
 
     def __init__(self, A, b, cost, lo, hi, deadline: Deadline, name=""):
         self.A = sp.csc_matrix(A)
@@ -185,12 +225,49 @@ class _LP:
         self.seconds = 0.0
         self.trace = None  # a print-like function to log every solve
         self.warm_seconds = None  # running mean of the solve times
+        self.abandoned = False
 
     def _interrupt(self, e):
-        if self.deadline.expired():
+        if self.abandoned or self.deadline.expired():
             e.interrupt()
 
+    def _usable(self):
+        if self.abandoned:
+            raise Stopped()
+
+    def _run(self):
+        """``h.run()`` in a worker thread, waited for in slices; raises Stopped (and
+        abandons this HiGHS object) when the deadline fires or the wait is interrupted."""
+        self._usable()
+        if self.n <= INLINE_COLUMNS:
+            self.h.run()
+            return
+        done = threading.Event()
+        failure = []
+
+        def work():
+            try:
+                self.h.run()
+            except BaseException as e:  # pragma: no cover - HiGHS raising is a bug to report
+                failure.append(e)
+            finally:
+                done.set()
+
+        thread = threading.Thread(target=work, name=f"highs-{self.name}", daemon=True)
+        thread.start()
+        try:
+            while not done.wait(WAIT_SLICE):
+                if self.deadline.expired():
+                    raise Stopped()
+        except BaseException:  # Stopped, or KeyboardInterrupt without a handler
+            self.abandoned = True
+            _abandoned[:] = [t for t in _abandoned if t.is_alive()] + [thread]
+            raise
+        if failure:
+            raise failure[0]
+
     def set_cost(self, cost):
+        self._usable()
         cost = np.asarray(cost, float)
         changed = np.flatnonzero(cost != self.cost)
         if changed.size:
@@ -198,6 +275,7 @@ class _LP:
             self.cost = cost.copy()
 
     def set_bounds(self, lo, hi):
+        self._usable()
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
         changed = np.flatnonzero((lo != self.lo) | (hi != self.hi))
         if changed.size:
@@ -210,6 +288,7 @@ class _LP:
         ``cap`` (s) bounds this solve alone: past it the status is 'time limit' and the
         search goes on (a certification LP that would take minutes is not worth it).
         """
+        self._usable()
         self.deadline.check()
         h = self.h
         start = h.getBasis() if cap is not None and not self.cold else None
@@ -231,18 +310,18 @@ class _LP:
                 h.setOptionValue(option, 1e-7)
             h.setOptionValue("solver", "ipm")
             h.setOptionValue("run_crossover", "on")
-            h.run()
+            self._run()
             for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
                 h.setOptionValue(option, LP_TOLERANCE)
             if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
                 h.setOptionValue("solver", "simplex")
                 h.setOptionValue("simplex_strategy", 4)
-                h.run()
+                self._run()
         else:
             h.setOptionValue("solver", "simplex")
             # Warm re-solves: primal simplex (the dual was 10-100x slower on these LPs).
             h.setOptionValue("simplex_strategy", 1 if self.cold else 4)
-            h.run()
+            self._run()
         was_cold, self.cold = self.cold, False
         self.n_solves += 1
         dt = time.perf_counter() - t
@@ -272,7 +351,7 @@ class _LP:
             h.setOptionValue("solver", "simplex")
             h.setOptionValue("simplex_strategy", 1)
             h.setOptionValue("presolve", "off")
-            h.run()
+            self._run()
             h.setOptionValue("presolve", "choose")
             st = h.getModelStatus()
             if st in (S.kInterrupt, S.kTimeLimit):
@@ -284,6 +363,46 @@ class _LP:
     def x(self) -> np.ndarray:
         return np.array(self.h.getSolution().col_value)
 
+    def _basis_matrix(self):
+        """(B, cols, rows): the basis matrix (basic columns, then unit columns of basic
+        rows), or None if HiGHS's basis is not a square basis."""
+        basis = self.h.getBasis()
+        B = highspy.HighsBasisStatus.kBasic
+        cols = np.flatnonzero(np.fromiter((s == B for s in basis.col_status), bool, self.n))
+        rows = np.flatnonzero(np.fromiter((s == B for s in basis.row_status), bool, self.m))
+        if cols.size + rows.size != self.m:
+            return None, cols, rows
+        Bm = sp.hstack([self.A[:, cols], sp.csc_matrix((np.ones(rows.size), (rows, np.arange(rows.size))),
+                                                       shape=(self.m, rows.size))]).tocsc()
+        return Bm, cols, rows
+
+    def exact_x(self) -> np.ndarray:
+        """The primal solution recomputed from the final basis: nonbasic columns at their
+        bound, ``B x_B = b - A_N x_N`` by a sparse LU solve.
+
+        HiGHS's own solution satisfies the rows to its tolerance on its scaled model only:
+        at 1020 blocks a warm statics solve left equilibrium residuals of 5e-7..5e-6
+        (relative), which failed the certification of exact collapse states.
+        """
+        x = self.x()
+        Bm, cols, rows = self._basis_matrix()
+        if Bm is None:
+            return x
+        xn = np.clip(x, self.lo, self.hi)
+        xn[cols] = 0.0
+        rhs = self.b - self.A @ xn
+        try:
+            xb = splu(Bm).solve(rhs)
+        except RuntimeError:
+            return x
+        if rows.size and np.abs(xb[cols.size:]).max() > 1e-9 * max(1.0, np.abs(xb).max()):
+            return x  # a basic equality row off its value: keep HiGHS's
+        xn[cols] = xb[:cols.size]
+        if np.any(xn[cols] < self.lo[cols] - 1e-9 * max(1.0, np.abs(xb).max())) or \
+                np.any(xn[cols] > self.hi[cols] + 1e-9 * max(1.0, np.abs(xb).max())):
+            return x
+        return np.clip(xn, self.lo, self.hi)
+
     def exact_duals(self):
         """(y, z): row duals and reduced costs from the final basis, by a sparse LU solve.
 
@@ -291,16 +410,11 @@ class _LP:
         basic columns (and unit columns for basic rows, whose duals are 0) makes
         ``z = c - A^T y`` vanish on basic columns to round-off.
         """
-        basis = self.h.getBasis()
-        B = highspy.HighsBasisStatus.kBasic
-        cols = np.flatnonzero(np.fromiter((s == B for s in basis.col_status), bool, self.n))
-        rows = np.flatnonzero(np.fromiter((s == B for s in basis.row_status), bool, self.m))
-        if cols.size + rows.size != self.m:
+        Bm, cols, rows = self._basis_matrix()
+        if Bm is None:
             sol = self.h.getSolution()
             y = np.array(sol.row_dual)
             return y, self.cost - self.A.T @ y
-        Bm = sp.hstack([self.A[:, cols], sp.csc_matrix((np.ones(rows.size), (rows, np.arange(rows.size))),
-                                                       shape=(self.m, rows.size))]).tocsc()
         rhs = np.concatenate([self.cost[cols], np.zeros(rows.size)])
         try:
             y = splu(Bm.T.tocsc()).solve(rhs)
@@ -366,7 +480,9 @@ class GapSearch:
         self.Slam = (-(self.Y @ self.T)).tocsr()  # yield slacks = Slam @ lambda (>= 0)
         assert self.Slam.min() >= 0
         # held row r <-> the lambdas of its slack fixed at 0 (two per row)
-        self.held_lams = [self.Slam.getrow(r).indices for r in range(4 * nc)]
+        self.Slam.sort_indices()
+        assert np.all(np.diff(self.Slam.indptr) == 2)
+        self.held_lams = self.Slam.indices.reshape(-1, 2)  # row r: its two lambdas
         self.row_of_pair = sp.csr_matrix((np.ones(self.Slam.nnz), self.Slam.nonzero()), shape=self.Slam.shape)
         Ag = sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)]).tocsc()
         self.nl = 4 * nc
@@ -426,7 +542,7 @@ class GapSearch:
             cost[:self.nl] = cost_lam
         hi = np.full(self.nl + 1, INF)
         if held is not None and held.any():
-            hi[np.concatenate([self.held_lams[r] for r in np.flatnonzero(held)])] = 0.0
+            hi[self.held_lams[held].ravel()] = 0.0
         self.stat.set_cost(cost)
         self.stat.set_bounds(np.zeros(self.nl + 1), hi)
         status = self.stat.solve(cap)
@@ -510,7 +626,7 @@ class GapSearch:
         # (2) then the held lambdas are already zero, so bounding them keeps the basis
         # feasible, and min alpha is a warm primal solve. Each is capped at a few typical
         # solve times: a certification that hard is not worth it now.
-        cap = max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
+        cap = self._cap()
         status, x = self.statics(cost_lam=self.gap_weights(xi), alpha_cost=0.0, cap=cap)
         if status == "time limit":
             return _CAPPED
@@ -521,7 +637,12 @@ class GapSearch:
             return _CAPPED
         if status != "optimal":
             return None
+        x = self.stat.exact_x()  # equilibrium to round-off, not to HiGHS's tolerance
         return self._accept(x, u, xi, flow, source)
+
+    def _cap(self):
+        """Time cap (s) of a statics LP that may be hard (certification, hold step)."""
+        return max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
 
     def _accept(self, x, u, xi, flow, source):
         s = self.forces(x)
@@ -530,6 +651,9 @@ class GapSearch:
                               u=u.copy(), xi=np.where(flow, xi, 0.0), flow=flow.copy(), source=source)
         state.residual = self.check_scaled.residuals(state)
         if max(state.residual.values()) > RESIDUAL_TOLERANCE:
+            if self.verbose > 1:
+                bad = {k: f"{v:.1e}" for k, v in state.residual.items() if v > RESIDUAL_TOLERANCE}
+                print(f"{self.elapsed():8.2f}   rejected alpha {state.alpha:.7f}: {bad}", flush=True)
             return None
         state.lam = x  # kept for warm descents (not part of the user state)
         if self.on_state is not None:  # every certified state (scaled units), e.g. an archive
@@ -619,7 +743,7 @@ class GapSearch:
         _, z = self.stat.exact_duals()
         zl = z[:self.nl]
         held_lams = np.zeros(self.nl, bool)
-        held_lams[np.concatenate([self.held_lams[r] for r in np.flatnonzero(state.flow)])] = True
+        held_lams[self.held_lams[state.flow].ravel()] = True
         push = np.where(held_lams & (zl < -1e-12), -zl, 0.0)
         if not push.any():
             return None
@@ -671,6 +795,21 @@ class GapSearch:
                     gap = float(self.gap_weights(xi) @ x[:self.nl])
                     tight = self.active_rows(x, ACTIVE_TOLS[0])
                     slack_flow = (xi > 0) & ~tight
+                    if slack_flow.any() and gap <= GAP_HOLD * max(1.0, alpha) and not forbid_slack:
+                        # Hold step. Near convergence the least-alpha_K mechanism flows, a
+                        # little (1e-8..3e-7 of its largest flow at 1020 blocks), on a few rows
+                        # this statics keeps slack, and no statics holds them all: the gap step
+                        # stalls at a gap ~1e-8 (the rho-weights of those rows are negligible).
+                        # Hold at equality the rows it flows on that are already tight and
+                        # minimise alpha: x stays feasible (warm), alpha falls, and the next
+                        # mechanism often flows only on tight rows (gap exactly 0: certified).
+                        st_h, xh = self.statics(held=(xi > 0) & tight, cap=self._cap())
+                        if self.verbose > 1:
+                            print(f"{self.elapsed():8.2f}   hold: alpha {alpha:.7f} gap {gap:.2e} slack flows "
+                                  f"{int(slack_flow.sum())} -> {st_h} {xh[-1] if xh is not None else ''}", flush=True)
+                        if st_h == "optimal" and xh[-1] < alpha - 1e-12 * max(1.0, alpha):
+                            x = xh  # (obj_prev kept: the rho ladder still ends on a stall)
+                            continue
                     if slack_flow.any() and gap <= GAP_FORBID * max(1.0, alpha):
                         # Near convergence the least-alpha_K mechanism still flows, slightly,
                         # on rows this statics keeps slack (2040 blocks: flows ~3e-7 of the
@@ -735,7 +874,9 @@ class GapSearch:
         best = self.certify(u, xi, source)
         if best is not None:
             best = self.descend(best)
-        status, x = self.statics(cost_lam=RHO_MAIN[0] * self.gap_weights(xi))
+        # capped: from a far perturbation the first gap step can take 10 s at 1020 blocks
+        # (12,000 iterations), the time of many cheaper perturbations
+        status, x = self.statics(cost_lam=RHO_MAIN[0] * self.gap_weights(xi), cap=self._cap())
         if status == "optimal":
             st, _ = self.alternate(x, source=source)
             if st is not None and (best is None or st.alpha < best.alpha):

@@ -217,3 +217,64 @@ def test_unstable_under_dead_load():
                   {"id": "b", "vertices": rect(0, 1, 1, 2)}], live=(-1.0, 0.0))
     res = search(structure_from_json(spec), handle_sigint=False)
     assert res.status == "unstable" and res.best is None
+
+
+def test_stop_during_the_first_cold_lp():
+    """A stop asked for during the first (cold, interior point + crossover) LP of a
+    medium wall takes effect within a slice, not when HiGHS finishes; the engine then
+    raises Stopped on any further use."""
+    from lamodel.search.options import Stopped
+    s = bond(20)                                   # 510 blocks: the cold LP takes seconds
+    fire = []
+    stop = lambda: bool(fire) and time.monotonic() >= fire[0]
+    eng = GapSearch(s, Deadline.after(None, stop))
+    fire.append(time.monotonic() + 0.3)
+    t = time.perf_counter()
+    res = eng.run()
+    took = time.perf_counter() - t
+    assert res.interrupted and res.best is None and np.isnan(res.associative)  # inside the first LP
+    assert took < 5.0
+    with pytest.raises(Stopped):
+        eng.start()
+
+
+def test_stop_where_highs_calls_no_callback():
+    """HiGHS's crossover calls no interrupt callback; the worker thread makes that not
+    matter: with HiGHS's callbacks off, a stop still returns at once."""
+    from lamodel.search.options import Stopped
+    s = bond(20)
+    fire = []
+    eng = GapSearch(s, Deadline.after(None, lambda: bool(fire) and time.monotonic() >= fire[0]))
+    eng.stat.h.cbSimplexInterrupt.unsubscribe(eng.stat._interrupt)
+    eng.stat.h.cbIpmInterrupt.unsubscribe(eng.stat._interrupt)
+    fire.append(time.monotonic() + 0.3)
+    t = time.perf_counter()
+    with pytest.raises(Stopped):
+        eng.start()
+    assert time.perf_counter() - t < 5.0
+    assert eng.stat.abandoned
+
+
+def test_exact_primal_from_the_basis():
+    """The statics recomputed from HiGHS's final basis satisfies equilibrium to round-off
+    (HiGHS's own solution only to its tolerance on its scaled model), keeps the bounds,
+    and has the same alpha."""
+    s = bond(10)
+    eng = GapSearch(s)
+    status, _, x = eng.start()
+    assert status == "ok"
+    xe = eng.stat.exact_x()
+    scale = max(1.0, np.abs(xe).max())
+    assert np.abs(eng.stat.A @ xe - eng.stat.b).max() <= 1e-12 * scale
+    assert (xe >= 0).all()
+    assert xe[-1] == pytest.approx(x[-1], abs=1e-8)
+
+
+def test_medium_wall_certified_and_checked():
+    """A 255-block running-bond wall: a certified state whose statics and mechanism pass
+    the independent check (the gap alternation with its hold step, then descents)."""
+    s = bond(10)
+    res = search(s, time_limit=60, handle_sigint=False)
+    assert res.status == "certified"
+    assert res.alpha <= res.associative
+    assert collapse_violation(s, res.best) <= 1e-7
