@@ -343,6 +343,10 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
         rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
                                          f"{'s' if len(starts) != 1 else ''} to start from")
     progress.phase("Ipopt on eq. 5")
+    # the engine certifies Ipopt's points within the whole limit (the search had less)
+    engine.deadline = deadline
+    for lp in (engine.stat, engine.coh, engine.coh_r):
+        lp.deadline = deadline
     futures = {}
     for i, st in enumerate(starts, start=1):
         if deadline.left() < plan["estimate"] and deadline.at is not None:
