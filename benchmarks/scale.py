@@ -4,6 +4,7 @@
     python benchmarks/scale.py                               # everything, 60 s budget a case
     python benchmarks/scale.py --cases bond10,bond40 --budget 60
     python benchmarks/scale.py --cases wall33,wall55,door1 --budget 0   # default stopping rule
+    python benchmarks/scale.py --driver --cases bond40 --budget 60     # the whole search of lamodel solve
 
 Cases: ``wall33``/``wall55`` (the seed's Table 1), ``bondC`` (running bond of C courses of
 25 blocks: courses alternate, from the bottom, 1/2 + 24 + 1/2 and 25 full blocks, as the
@@ -57,6 +58,24 @@ def build(case: str):
 
 
 # ------------------------------------------------------------------------ runs
+def run_driver(case, budget, seed, queue):
+    """The product's search (lamodel.search.driver.solve: engine, GA with its stopping rule,
+    Ipopt when affordable), with ``budget`` as --time-limit."""
+    from lamodel.search.driver import SolveOptions, solve
+    s = build(case)
+    o = solve(s, SolveOptions(seed=seed, time_limit=budget if budget > 0 else None, progress=False))
+    row = dict(case=case, blocks=s.n_blocks, contacts=s.n_contacts, status=o.status,
+               assoc=o.alpha_associative, t_assoc=o.phases.get("associative", np.nan),
+               first=o.first[0], t_first=o.first[1], best=o.best.alpha if o.best else np.nan,
+               t_best=o.history[-1][0] if o.history else np.nan, total=o.wall_time_s,
+               lps=o.runs[0].iterations if o.runs else 0,
+               phases={k: round(v, 2) for k, v in o.phases.items()},
+               rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+               residual=max(o.best.residual.values()) if o.best else np.nan,
+               interrupted="time limit" in o.message, latency=np.nan)
+    queue.put(row)
+
+
 def run_case(case, budget, seed, queue, sigint_at=None):
     import os
     import signal
@@ -102,6 +121,8 @@ def main(argv=None):
     ap.add_argument("--sigint-at", type=float, help="send SIGINT (Ctrl-C) this many seconds after the "
                     "engine's construction starts; the row ends with the latency (s) from the signal to "
                     "the engine's return")
+    ap.add_argument("--driver", action="store_true", help="time lamodel.search.driver.solve (what lamodel solve "
+                    "runs: the engine, the GA and its stopping rule) instead of the engine alone")
     a = ap.parse_args(argv)
     ctx = mp.get_context("fork")
     rows = []
@@ -110,7 +131,10 @@ def main(argv=None):
     print(head, flush=True)
     for case in a.cases.split(","):
         q = ctx.Queue()
-        p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q, a.sigint_at))
+        if a.driver:
+            p = ctx.Process(target=run_driver, args=(case, a.budget, a.seed, q))
+        else:
+            p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q, a.sigint_at))
         p.start()
         row = q.get()
         p.join()
