@@ -430,8 +430,10 @@ class Results:
         return [str(m) for m in self.contacts["mode"]]
 
     def mode_counts(self) -> pd.Series:
-        """Number of contacts in each mode (every mode of :data:`MODES` listed)."""
-        return self.contacts["mode"].value_counts().reindex(list(MODES), fill_value=0).astype(int)
+        """Number of contacts in each mode (every mode of :data:`MODES` listed; ``unknown``
+        only when some contact is)."""
+        counts = self.contacts["mode"].value_counts().reindex(list(MODES), fill_value=0).astype(int)
+        return counts if counts["unknown"] else counts.drop("unknown")  # listed only when it occurs
 
     # ------------------------------------------------------------------ text
     def to_text(self) -> str:
