@@ -479,11 +479,20 @@ class GapSearch:
         self.T = generator_matrix(s)
         self.Slam = (-(self.Y @ self.T)).tocsr()  # yield slacks = Slam @ lambda (>= 0)
         assert self.Slam.min() >= 0
-        # held row r <-> the lambdas of its slack fixed at 0 (two per row)
+        # held row r <-> the two lambdas of its slack fixed at 0, by construction of the
+        # generators (columns 1+, 1-, 2+, 2- of a contact): slide+ {1-, 2-}, slide- {1+, 2+},
+        # hinge+ {1+, 1-}, hinge- {2+, 2-}. From the pattern, not from Slam's nonzeros: with
+        # mu = 0 a slide's slack coefficients vanish (and holding it constrains nothing more).
+        k4 = 4 * np.arange(nc)
+        self.held_lams = np.concatenate([np.column_stack([k4 + a, k4 + b])
+                                         for a, b in ((1, 3), (0, 2), (0, 1), (2, 3))])
         self.Slam.sort_indices()
-        assert np.all(np.diff(self.Slam.indptr) == 2)
-        self.held_lams = self.Slam.indices.reshape(-1, 2)  # row r: its two lambdas
-        self.row_of_pair = sp.csr_matrix((np.ones(self.Slam.nnz), self.Slam.nonzero()), shape=self.Slam.shape)
+        on = (self.mu > 0)[np.arange(4 * nc) % nc] | (np.arange(4 * nc) >= 2 * nc)
+        check = self.Slam[np.flatnonzero(on)]
+        assert np.all(np.diff(check.indptr) == 2) and np.array_equal(check.indices.reshape(-1, 2),
+                                                                     self.held_lams[on])
+        rows = np.repeat(np.arange(4 * nc), 2)
+        self.row_of_pair = sp.csr_matrix((np.ones(8 * nc), (rows, self.held_lams.ravel())), shape=self.Slam.shape)
         Ag = sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)]).tocsc()
         self.nl = 4 * nc
         lo = np.zeros(self.nl + 1)
