@@ -366,9 +366,8 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
                 rows[i] = _certify_ipopt(engine, fut, i, st)
     except Stopped:
         pass
-    for fut in pending:
+    for fut in pending:  # left to _shutdown (cancelled, or their workers killed)
         i, st = futures[fut]
-        fut.cancel()
         rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
                       status="interrupted" if deadline.flag or (deadline.stop and deadline.stop()) else "time limit")
     runs.extend(rows[i] for i in sorted(rows))
@@ -418,7 +417,9 @@ def _shutdown(pool, kill):
     would otherwise hold the exit for its whole solve)."""
     live = getattr(pool, "_processes", None)
     procs = list(live.values()) if kill and isinstance(live, dict) else []
-    pool.shutdown(wait=False, cancel_futures=True)
+    # Killed workers make the pool mark its pending futures broken; a future cancelled
+    # before that makes its manager thread raise (InvalidStateError, printed on stderr).
+    pool.shutdown(wait=False, cancel_futures=not procs)
     for p in procs:
         try:
             p.kill()
