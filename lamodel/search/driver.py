@@ -278,9 +278,7 @@ def _unstable_message(engine):
 
 
 def _run_status(engine, status, deadline, stop):
-    text = {"certified": "certified"}.get(status, status.replace("_", " "))
-    if engine.best is not None:
-        text = "certified"
+    text = "certified" if engine.best is not None else status.replace("_", " ")
     if stop.is_set():
         text += ", interrupted"
     elif deadline.expired():
@@ -387,29 +385,11 @@ def _certify_ipopt(engine, fut, i, st) -> Run:
 
 def _certify_point(engine, N, V, M, source):
     """An Ipopt point (scaled units) as a collapse state: the rows it holds within a
-    tolerance may flow; the least-alpha_K mechanism on them, its rows held, min alpha,
-    descended. The least certified alpha over the tolerances, or None."""
+    tolerance may flow (:meth:`GapSearch.certify_slack`). The least certified alpha at the
+    first tolerance that certifies, or None."""
     s = np.concatenate([N, V, M])
-    slack = -(engine.Y @ s)
-    scale = max(float(np.abs(s).max()), 1.0)
-    best, tried = None, set()
-    for tol in ACTIVE_TOLERANCES:
-        allowed = slack <= tol * scale
-        key = allowed.tobytes()
-        if key in tried or not allowed.any():
-            continue
-        tried.add(key)
-        status, _, _, u, xi = engine.mechanism(-engine.mu * np.minimum(N, 0.0), allowed)
-        if status != "optimal":
-            continue
-        st = engine.certify(u, xi, source)
-        if st is not None:
-            st = engine.descend(st)
-            if best is None or st.alpha < best.alpha:
-                best = st
-        if best is not None:
-            break
-    return best
+    return engine.certify_slack(-(engine.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0), source,
+                                tols=ACTIVE_TOLERANCES, first=True)
 
 
 def _shutdown(pool, kill):

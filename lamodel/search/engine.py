@@ -729,14 +729,19 @@ class GapSearch:
         return state
 
     def _descend_step(self, state):
+        return self._first_lower(state, (self.active_rows(state.lam, tol) for tol in ACTIVE_TOLS[:2]), "+descend")
+
+    def _first_lower(self, state, allowed_sets, tag):
+        """Mechanisms for the state's cohesions restricted to each allowed set in turn, each
+        certified; stops at the first certified state below the state's alpha. The least
+        certified (or None)."""
         best = None
         c = -self.mu * state.N
-        for tol in ACTIVE_TOLS[:2]:
-            allowed = self.active_rows(state.lam, tol)
+        for allowed in allowed_sets:
             status, _, _, u, xi = self.mechanism(c, allowed)
             if status != "optimal":
                 continue
-            cand = self.certify(u, xi, state.source + "+descend")
+            cand = self.certify(u, xi, state.source + tag)
             if cand is not None and (best is None or cand.alpha < best.alpha):
                 best = cand
             if best is not None and best.alpha < state.alpha - 1e-10:
@@ -760,24 +765,16 @@ class GapSearch:
         row_push[~state.flow] = 0.0
         order = np.argsort(-row_push)
         order = order[row_push[order] > 0]
-        c = -self.mu * state.N
         allowed0 = self.active_rows(state.lam, ACTIVE_TOLS[1])
-        best = None
         # the most pushing rows one at a time, then the top ones together
         trials = [order[i:i + 1] for i in range(min(PRESSURE_SINGLE, order.size))]
         trials += [order[:n] for n in (2, 4, 8) if n <= order.size]
-        for rel in trials:
+
+        def released(rel):
             allowed = allowed0.copy()
             allowed[rel] = False
-            status, _, _, u, xi = self.mechanism(c, allowed)
-            if status != "optimal":
-                continue
-            cand = self.certify(u, xi, state.source + "+pressure")
-            if cand is not None and (best is None or cand.alpha < best.alpha):
-                best = cand
-            if best is not None and best.alpha < state.alpha - 1e-10:
-                break
-        return best
+            return allowed
+        return self._first_lower(state, (released(rel) for rel in trials), "+pressure")
 
     # ------------------------------------------------------------------ alternation
     def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=200, forbid_slack=False):
@@ -940,11 +937,18 @@ class GapSearch:
     def certify_near(self, x, source, first=False):
         """Certification from the rows a statics holds nearly active, at several tolerances
         (``first``: stop at the first tolerance that certifies)."""
+        return self.certify_slack(self.Slam @ x[:self.nl], max(1.0, np.abs(x).max()), self.N_of(x), source,
+                                  first=first)
+
+    def certify_slack(self, slack, scale, N, source, tols=ACTIVE_TOLS, first=False):
+        """For each tolerance: the rows with slack <= tol * scale may flow; the least-alpha_K
+        mechanism on them for cohesions -mu N, certified and descended. The least alpha
+        certified (``first``: at the first tolerance that certifies), or None."""
         best = None
-        c = -self.mu * self.N_of(x)
+        c = -self.mu * N
         tried = set()
-        for tol in ACTIVE_TOLS:
-            allowed = self.active_rows(x, tol)
+        for tol in tols:
+            allowed = slack <= tol * scale
             key = allowed.tobytes()
             if key in tried or not allowed.any():
                 continue
