@@ -618,6 +618,14 @@ def command(name: str | None, argv=None, prog: str = "lamodel") -> int:
     """Run one command (``name``) or the whole ``lamodel`` command line (``name=None``);
     returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        return _command(name, argv, prog)
+    except KeyboardInterrupt:  # e.g. while the parser imports the search's choices
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+def _command(name, argv, prog):
     debug = "--debug" in argv
     try:
         args = _parser(prog, name).parse_args(argv)

@@ -27,7 +27,6 @@ inside every LP (HiGHS's interrupt callback); the best certified state so far is
 from __future__ import annotations
 
 import math
-import signal
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, wait
@@ -39,7 +38,7 @@ import numpy as np
 from ..structure import Structure
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .ipopt import EPSILON_LADDER, start_pool
-from .options import Deadline, SolveOptions, Stopped
+from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
 from .state import CollapseState, Run
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
@@ -143,7 +142,7 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     def on_certified(user_state):
         progress.best(user_state.alpha)
 
-    old_handler = _catch_sigint(stop)
+    old_handler = catch_sigint(stop.set)
     engine = None
     runs: list[Run] = []
     status, message, alpha_assoc = "not_certified", "", np.nan
@@ -159,7 +158,7 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
             _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
         progress.close()
-        _restore_sigint(old_handler)
+        restore_sigint(old_handler)
         if pool is not None:
             _shutdown(pool, kill=stop.is_set() or deadline.expired())
     if engine is not None and engine.best_user is not None and status in ("not_certified", "certified"):
@@ -408,18 +407,6 @@ def _shutdown(pool, kill):
 
 
 # -------------------------------------------------------------------------- helpers
-def _catch_sigint(stop):
-    """Ctrl-C sets ``stop``: every LP, the GA and the Ipopt wait see it within a moment."""
-    if threading.current_thread() is not threading.main_thread():
-        return None
-    return signal.signal(signal.SIGINT, lambda signum, frame: stop.set())
-
-
-def _restore_sigint(old):
-    if old is not None:
-        signal.signal(signal.SIGINT, old)
-
-
 def _check_solver(opt):
     from ..errors import InputError
     if opt.solver == "ipopt" and opt.starts != 0:

@@ -33,7 +33,6 @@ the user's units, each re-checked by :func:`lamodel.search.certify.residuals`.
 from __future__ import annotations
 
 import atexit
-import signal
 import threading
 import time
 from dataclasses import dataclass, field
@@ -46,7 +45,7 @@ from scipy.sparse.linalg import splu
 from ..formulation.matrices import equilibrium_matrix, flow_matrix, load_vectors, yield_matrix
 from ..structure import Structure
 from .certify import RESIDUAL_TOLERANCE, residuals
-from .options import Deadline, Stopped
+from .options import Deadline, Stopped, catch_sigint, restore_sigint
 from .state import CollapseState
 
 INF = highspy.kHighsInf
@@ -1102,11 +1101,7 @@ def search(structure: Structure, time_limit: float | None = None, stop=None, on_
     for ``patience`` seconds (default: three times the time to the first certificate).
     """
     deadline = Deadline.after(time_limit, stop)
-    old = None
-    if handle_sigint and threading.current_thread() is threading.main_thread():
-        def _on_sigint(signum, frame):
-            deadline.flag = True
-        old = signal.signal(signal.SIGINT, _on_sigint)
+    old = catch_sigint(lambda: setattr(deadline, "flag", True)) if handle_sigint else None
     try:
         engine = GapSearch(structure, deadline, on_certified=on_certified, seed=seed, verbose=verbose)
         return engine.run(explore=explore, patience=patience)
@@ -1114,5 +1109,4 @@ def search(structure: Structure, time_limit: float | None = None, stop=None, on_
         return SearchResult(status="none certified", best=None, associative=np.nan, interrupted=True,
                             message="stopped before the first LP")
     finally:
-        if old is not None:
-            signal.signal(signal.SIGINT, old)
+        restore_sigint(old)

@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import math
+import signal
+import threading
 import time
 from dataclasses import dataclass, field
 
@@ -105,3 +107,23 @@ class Deadline:
 
     def __getstate__(self):  # for worker processes: the time alone (a predicate may not pickle)
         return {"at": self.at if not self.expired() else time.monotonic(), "stop": None, "flag": False}
+
+
+def catch_sigint(on_sigint):
+    """Let Ctrl-C call ``on_sigint()`` instead of raising KeyboardInterrupt; returns what
+    :func:`restore_sigint` needs, or None when nothing was changed.
+
+    Nothing is changed outside the main thread (Python allows handlers only there) or when
+    SIGINT is ignored: a shell starts background jobs that way so that Ctrl-C at the
+    terminal leaves them running, and Python itself honours it.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        return None
+    return signal.signal(signal.SIGINT, lambda signum, frame: on_sigint())
+
+
+def restore_sigint(old):
+    if old is not None:
+        signal.signal(signal.SIGINT, old)

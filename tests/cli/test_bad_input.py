@@ -526,6 +526,12 @@ def _children(pid):
         return None
 
 
+def _sigint_as_a_terminal_sends_it():
+    """Child processes start with Ctrl-C at its default: a shell (or CI runner) that started
+    pytest as a background job left SIGINT ignored, which the children would inherit."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.fixture(scope="module")
 def interrupted(tmp_path_factory):
     """solve.py on wall55 with 2 Ipopt starts, sent SIGINT about a second into the search.
@@ -537,7 +543,8 @@ def interrupted(tmp_path_factory):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     p = subprocess.Popen([sys.executable, str(ROOT / "scripts" / "solve.py"), str(INSTANCES / "wall55.dat"),
                           "--starts", "2", "--out", str(out), "--no-plot"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                         preexec_fn=_sigint_as_a_terminal_sends_it)
     kids = []
     if _children(p.pid) is None:
         time.sleep(4.0)
@@ -582,15 +589,40 @@ def test_ctrl_c_is_recorded_in_runs(interrupted):
     assert r.summary.n_certified[0] >= int(r.certified)
 
 
-def test_ctrl_c_during_start_up(tmp_path):
+def _solve_wall33(out, preexec_fn):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    p = subprocess.Popen([sys.executable, str(ROOT / "scripts" / "solve.py"), str(INSTANCES / "wall33.dat"),
-                          "--out", str(tmp_path / "o")], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         env=env)
-    time.sleep(0.5)
+    return subprocess.Popen([sys.executable, str(ROOT / "scripts" / "solve.py"), str(INSTANCES / "wall33.dat"),
+                             "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env, preexec_fn=preexec_fn)
+
+
+@pytest.mark.parametrize("after", [0.15, 0.5])
+def test_ctrl_c_during_start_up(tmp_path, after):
+    """Ctrl-C while the modules load (the command-line parser imports the search's
+    choices, numpy with them) is an interrupt like any other: exit 130, no traceback."""
+    p = _solve_wall33(tmp_path / "o", _sigint_as_a_terminal_sends_it)
+    time.sleep(after)
     p.send_signal(signal.SIGINT)
     _, stderr = p.communicate(timeout=60)
     assert p.returncode == 130 and "Traceback" not in stderr, (p.returncode, stderr[-500:])
+    assert not (tmp_path / "o").exists() or Results.read(tmp_path / "o") is not None  # whole, if written
+
+
+def test_ignored_sigint_stays_ignored(tmp_path):
+    """A run started with SIGINT ignored (`lamodel solve ... &` from a script) is not
+    stopped by it: the search does not put its own Ctrl-C handler over the ignore."""
+    def ignore():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    p = _solve_wall33(tmp_path / "o", ignore)
+    time.sleep(0.5)
+    for _ in range(10):
+        if p.poll() is not None:
+            break
+        p.send_signal(signal.SIGINT)
+        time.sleep(0.2)
+    _, stderr = p.communicate(timeout=120)
+    assert p.returncode == 0, (p.returncode, stderr[-500:])
+    assert Results.read(tmp_path / "o").certified
 
 
 # ---------------------------------------------------------------- 4. reproducibility

@@ -184,12 +184,18 @@ def test_sigint_sets_the_stop_flag():
     import os
     import signal
     s = bond(10)
+    # as from a terminal: pytest may have been started with SIGINT ignored, which the
+    # search rightly leaves alone
+    default = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
-    t = time.perf_counter()
-    res = search(s, patience=1e9)
-    took = time.perf_counter() - t
-    timer.cancel()
+    try:
+        t = time.perf_counter()
+        res = search(s, patience=1e9)
+        took = time.perf_counter() - t
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, default)
     assert res.interrupted and took < 1.0 + 4.0
 
 
