@@ -137,6 +137,20 @@ def _solve_study_arguments(p):
 
 
 def _solve(args, prog) -> int:
+    painter = None
+    if not (args.no_plot or args.report or args.animate):
+        # matplotlib loads in a second process while this one reads and solves (the
+        # report and the animation load it here anyway)
+        from .output.painter import Painter
+        painter = Painter()
+    try:
+        return _solve_with(args, prog, painter)
+    finally:
+        if painter is not None:
+            painter.close()
+
+
+def _solve_with(args, prog, painter) -> int:
     import warnings
 
     import pandas as pd
@@ -184,6 +198,8 @@ def _solve(args, prog) -> int:
             results = outcome_results(outcome, dict(extra, method="lamodel"))
         dead_u = _explain_unstable(outcome)
         results.summary["message"] = outcome.message  # with the blocks that move under dead load, if unstable
+        if painter is not None and beside(picture):  # drawn there while the tables are written here
+            painter.start(outcome.structure, stage.path / Path(picture).name, _picture(outcome, results, dead_u))
         words = _words(outcome, results, dead_u)
         # everything that belongs to the result folder is written into the staging folder,
         # then swapped in as a whole; its files are named in summary.csv (so a later run
@@ -197,7 +213,7 @@ def _solve(args, prog) -> int:
         if methods is not None:
             _write_methods(methods, stage.path, out, structure)
         _write_extras(args, prog, outcome, results, words, study, dead_u,
-                      {k: stage.path / Path(p).name for k, p in extras.items() if beside(p)})
+                      {k: stage.path / Path(p).name for k, p in extras.items() if beside(p)}, painter)
         try:
             stage.commit()
         except OSError as exc:
@@ -206,7 +222,7 @@ def _solve(args, prog) -> int:
     finally:
         stage.discard()
     outside = {k: Path(p) for k, p in extras.items() if p is not None and not beside(p)}
-    _write_extras(args, prog, outcome, results, words, study, dead_u, outside)
+    _write_extras(args, prog, outcome, results, words, study, dead_u, outside, painter)
     shown = {k: out / Path(p).name if beside(p) else p for k, p in extras.items() if p is not None}
     if not args.quiet:
         with pd.option_context("display.width", 160, "display.max_columns", 20, "display.max_colwidth", 60):
@@ -229,11 +245,12 @@ def _solve(args, prog) -> int:
     return EXIT_CERTIFIED if outcome.certified else EXIT_NOT_CERTIFIED
 
 
-def _write_extras(args, prog, outcome, results, words, study, dead_u, paths):
+def _write_extras(args, prog, outcome, results, words, study, dead_u, paths, painter=None):
     """The picture, the animation and the HTML report, each to its path in ``paths``
-    (keys picture, animation, report; a missing key: not in this phase)."""
+    (keys picture, animation, report; a missing key: not in this phase); the picture by
+    ``painter`` (:mod:`lamodel.output.painter`) if given."""
     if "picture" in paths:
-        _draw(outcome.structure, outcome, results, paths["picture"], dead_u)
+        _draw(outcome.structure, outcome, results, paths["picture"], dead_u, painter)
     if "animation" in paths:
         _animate(outcome, results, paths["animation"], dead_u)
     if "report" in paths:
@@ -247,14 +264,15 @@ def _picture_place(plot, out) -> Path:
     """Where the picture goes, checked before solving: a known format, a writable place.
     Beside the tables (the default) it is part of the result folder; elsewhere its folder
     must exist."""
-    from matplotlib.backend_bases import FigureCanvasBase
-
     from .errors import InputError
     from .io.files import check_writable_folder
 
     path = Path(plot) if plot else Path(out) / "mechanism.png"
     ext = path.suffix.lower().lstrip(".")
-    supported = FigureCanvasBase.get_supported_filetypes()
+    supported = ("png",)
+    if ext != "png":  # any other format: ask matplotlib (0.6 s to load; png needs no asking)
+        from matplotlib.backend_bases import FigureCanvasBase
+        supported = FigureCanvasBase.get_supported_filetypes()
     if ext not in supported:
         raise InputError(f"{path}: unknown picture format '{path.suffix}'; expected one of "
                          f"{', '.join('.' + e for e in sorted(supported))}")
@@ -300,7 +318,9 @@ def _write_methods(frame, folder, out, structure):
     print(f"methods table written to {out}/methods.csv")
 
 
-def _draw(structure, outcome, results, path, dead_u=None):
+def _draw(structure, outcome, results, path, dead_u=None, painter=None):
+    if painter is not None:
+        return painter.draw(structure, path, _picture(outcome, results, dead_u))
     from .output.plot import plot_mechanism
     return plot_mechanism(structure, path=str(path), **_picture(outcome, results, dead_u))
 

@@ -103,7 +103,7 @@ def _sense(theta) -> str:
 
 def joint_marks(structure: Structure, u, modes) -> list:
     """Hinges and sliding joints of the mechanism, numbered in contact order."""
-    from .plot import contact_kinematics
+    from .kinematics import contact_kinematics
     s = structure
     u = np.asarray(u, dtype=float).reshape(-1, 3)
     _, slip, th, gaps = contact_kinematics(s, u)
@@ -138,7 +138,7 @@ def joint_marks(structure: Structure, u, modes) -> list:
 def moving_blocks(structure: Structure, u, rtol: float = RTOL) -> np.ndarray:
     """Boolean per block: does it move (a vertex or the centroid moves more than rtol of
     the largest motion)?"""
-    from .plot import displace
+    from .kinematics import displace
     s = structure
     u = np.asarray(u, dtype=float).reshape(-1, 3)
     mag = np.hypot(u[:, 0], u[:, 1])

@@ -216,9 +216,11 @@ class _LP:
         lp.a_matrix_.index_ = self.A.indices.astype(np.int32)
         lp.a_matrix_.value_ = self.A.data.astype(float)
         h.passModel(lp)
-        # HiGHS calls these inside its iterations: the deadline and Ctrl-C reach into a solve.
-        h.cbSimplexInterrupt.subscribe(self._interrupt)
-        h.cbIpmInterrupt.subscribe(self._interrupt)
+        if self.n > INLINE_COLUMNS:
+            # HiGHS calls these inside its iterations: the deadline and Ctrl-C reach into a
+            # solve (inline solves take milliseconds: the deadline is checked between them)
+            h.cbSimplexInterrupt.subscribe(self._interrupt)
+            h.cbIpmInterrupt.subscribe(self._interrupt)
         self.cold = True
         self.n_solves = 0
         self.seconds = 0.0
@@ -362,37 +364,50 @@ class _LP:
     def x(self) -> np.ndarray:
         return np.array(self.h.getSolution().col_value)
 
-    def _basis_matrix(self):
-        """(B, cols, rows): the basis matrix (basic columns, then unit columns of basic
-        rows), or None if HiGHS's basis is not a square basis."""
-        basis = self.h.getBasis()
-        B = highspy.HighsBasisStatus.kBasic
-        cols = np.flatnonzero(np.fromiter((s == B for s in basis.col_status), bool, self.n))
-        rows = np.flatnonzero(np.fromiter((s == B for s in basis.row_status), bool, self.m))
-        if cols.size + rows.size != self.m:
-            return None, cols, rows
-        Bm = sp.hstack([self.A[:, cols], sp.csc_matrix((np.ones(rows.size), (rows, np.arange(rows.size))),
-                                                       shape=(self.m, rows.size))]).tocsc()
-        return Bm, cols, rows
+    def _basis(self):
+        """(cols, rows): the basic columns and basic rows (ascending), or None if HiGHS's
+        basis is not a square basis."""
+        status, basic = self.h.getBasicVariables()
+        if status != highspy.HighsStatus.kOk or basic.size != self.m:
+            return None
+        return np.sort(basic[basic >= 0]), np.sort(-basic[basic < 0] - 1)
+
+    def _basis_solve(self, cols, rows, rhs, transpose=False):
+        """Solve B v = rhs (B^T v = rhs) with B = [A_cols | unit columns of rows] by a sparse
+        LU; None if B is singular. B is gathered from A's CSC arrays directly (scipy's
+        slicing and stacking cost more than the factorisation on small models)."""
+        A, m = self.A, self.m
+        start, count = A.indptr[cols], np.diff(A.indptr)[cols]
+        indptr = np.zeros(cols.size + rows.size + 1, np.int64)
+        indptr[1:cols.size + 1] = np.cumsum(count)
+        indptr[cols.size + 1:] = indptr[cols.size] + np.arange(1, rows.size + 1)
+        # positions in A.indices of every entry of the chosen columns, column by column
+        pos = np.repeat(start - indptr[:cols.size], count) + np.arange(indptr[cols.size])
+        indices = np.concatenate([A.indices[pos], rows])
+        data = np.concatenate([A.data[pos], np.ones(rows.size)])
+        Bm = sp.csc_matrix((data, indices, indptr), shape=(m, m))
+        try:
+            return splu(Bm).solve(rhs, trans="T" if transpose else "N")
+        except RuntimeError:
+            return None
 
     def exact_x(self) -> np.ndarray:
         """The primal solution recomputed from the final basis: nonbasic columns at their
-        bound, ``B x_B = b - A_N x_N`` by a sparse LU solve.
+        bound, ``B x_B = b - A_N x_N`` by an LU solve.
 
         HiGHS's own solution satisfies the rows to its tolerance on its scaled model only:
         at 1020 blocks a warm statics solve left equilibrium residuals of 5e-7..5e-6
         (relative), which failed the certification of exact collapse states.
         """
         x = self.x()
-        Bm, cols, rows = self._basis_matrix()
-        if Bm is None:
+        basis = self._basis()
+        if basis is None:
             return x
+        cols, rows = basis
         xn = np.clip(x, self.lo, self.hi)
         xn[cols] = 0.0
-        rhs = self.b - self.A @ xn
-        try:
-            xb = splu(Bm).solve(rhs)
-        except RuntimeError:
+        xb = self._basis_solve(cols, rows, self.b - self.A @ xn)
+        if xb is None:
             return x
         if rows.size and np.abs(xb[cols.size:]).max() > 1e-9 * max(1.0, np.abs(xb).max()):
             return x  # a basic equality row off its value: keep HiGHS's
@@ -403,21 +418,18 @@ class _LP:
         return np.clip(xn, self.lo, self.hi)
 
     def exact_duals(self):
-        """(y, z): row duals and reduced costs from the final basis, by a sparse LU solve.
+        """(y, z): row duals and reduced costs from the final basis, by an LU solve.
 
         HiGHS's own duals are exact only to its tolerances; solving ``B^T y = c_B`` on the
         basic columns (and unit columns for basic rows, whose duals are 0) makes
         ``z = c - A^T y`` vanish on basic columns to round-off.
         """
-        Bm, cols, rows = self._basis_matrix()
-        if Bm is None:
-            sol = self.h.getSolution()
-            y = np.array(sol.row_dual)
-            return y, self.cost - self.A.T @ y
-        rhs = np.concatenate([self.cost[cols], np.zeros(rows.size)])
-        try:
-            y = splu(Bm.T.tocsc()).solve(rhs)
-        except RuntimeError:  # singular factor: keep HiGHS's duals
+        basis = self._basis()
+        y = None
+        if basis is not None:
+            cols, rows = basis
+            y = self._basis_solve(cols, rows, np.concatenate([self.cost[cols], np.zeros(rows.size)]), transpose=True)
+        if y is None:  # no square basis, or a singular one: keep HiGHS's duals
             y = np.array(self.h.getSolution().row_dual)
         return y, self.cost - self.A.T @ y
 
