@@ -10,8 +10,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 
 if __name__ == "__main__":
     try:
-        from lamodel.cli import command
+        from lamodel.cli import command, exit_now
     except KeyboardInterrupt:
         print("solve.py: interrupted", file=sys.stderr)
         sys.exit(130)
-    sys.exit(command("solve", prog="solve.py"))
+    exit_now(command("solve", prog="solve.py"))

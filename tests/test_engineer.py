@@ -269,7 +269,9 @@ def test_picture_draws_point_loads_where_they_act():
                                        units={"length": "m", "force": "kN"}))
     fig, ax = plt.subplots()
     plot_mechanism(s, np.zeros((1, 3)), ax=ax, path=None)
-    tips = [a.xy for a in ax.texts if getattr(a, "arrow_patch", None) is not None]
+    from matplotlib.patches import FancyArrowPatch
+    # the arrows' (tail, tip) in data units (matplotlib keeps no public getter for them)
+    tips = [np.array(a._posA_posB[1]) for a in ax.get_children() if isinstance(a, FancyArrowPatch)]
     assert any(np.allclose(t, (0.0, 2.0)) for t in tips)          # the live arrow ends at its point
     assert any(np.allclose(t[0], 0.5) and t[1] < 1.0 for t in tips)  # the weight from the centroid, down
     assert ax.get_xlabel().startswith("x [m]")

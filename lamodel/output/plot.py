@@ -170,9 +170,12 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
 
 
 # ------------------------------------------------------------------ annotations
-def _arrow(ax, tail, tip, colour, lw=1.0, **kw):
-    ax.annotate("", xy=tuple(tip), xytext=tuple(tail), zorder=6,
-                arrowprops=dict(arrowstyle="-|>", color=colour, lw=lw, shrinkA=0, shrinkB=0, **kw))
+def _arrow(ax, tail, tip, colour, lw=1.0):
+    """An arrow from tail to tip (data coordinates). A patch, not an annotation (a text,
+    laid out at every draw), added as an artist: ``add_patch`` computes each arrow's
+    display path for the data limits, which the callers set from the arrow ends."""
+    ax.add_artist(FancyArrowPatch(posA=tuple(tail), posB=tuple(tip), arrowstyle="-|>", color=colour, lw=lw,
+                                 shrinkA=0, shrinkB=0, mutation_scale=10, zorder=6))
 
 
 def _joint_numbers(ax, s, u, modes, scale, ia):
@@ -189,7 +192,7 @@ def _joint_numbers(ax, s, u, modes, scale, ia):
                 sense = 1.0 if m.vector[0] > 0 else -1.0
                 a = np.radians(120.0 + sense * np.linspace(-70.0, 70.0, 24))
                 arc = MplPath(p + r * np.column_stack([np.cos(a), np.sin(a)]))
-                ax.add_patch(FancyArrowPatch(path=arc, arrowstyle="-|>", mutation_scale=9, color=_HINGE_COLOUR,
+                ax.add_artist(FancyArrowPatch(path=arc, arrowstyle="-|>", mutation_scale=9, color=_HINGE_COLOUR,
                                              lw=1.0, zorder=6))
             ax.annotate(str(m.number), p, xytext=(4, 4), textcoords="offset points", fontsize=7,
                         color=_HINGE_COLOUR, fontweight="bold", zorder=7)

@@ -24,10 +24,8 @@ decides every value, including the contact modes.
 """
 from __future__ import annotations
 
-import csv
 import math
 import os
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,6 +34,7 @@ import pandas as pd
 
 from ..errors import InputError
 from ..io.files import ResultFolder
+from .folder import TABLE_FILES
 from .modes import MODES
 
 
@@ -63,10 +62,10 @@ RUN_COLUMNS = {
 
 #: table name -> (file name, column kinds, id column that must be unique or None)
 TABLES = {
-    "summary": ("summary.csv", SUMMARY_COLUMNS, None),
-    "blocks": ("blocks.csv", BLOCK_COLUMNS, "block"),
-    "contacts": ("contacts.csv", CONTACT_COLUMNS, "contact"),
-    "runs": ("runs.csv", RUN_COLUMNS, "start"),
+    "summary": (TABLE_FILES["summary"], SUMMARY_COLUMNS, None),
+    "blocks": (TABLE_FILES["blocks"], BLOCK_COLUMNS, "block"),
+    "contacts": (TABLE_FILES["contacts"], CONTACT_COLUMNS, "contact"),
+    "runs": (TABLE_FILES["runs"], RUN_COLUMNS, "start"),
 }
 
 FLOAT_FORMAT = "%.17g"  # 17 significant digits: every float64 survives the round trip
@@ -281,47 +280,8 @@ def _write_table(path: Path, df: pd.DataFrame):
         os.fsync(fh.fileno())
 
 
-#: The files of a result folder. The picture, the HTML report and the animation, when
-#: written into it, are named in summary.csv's columns ``picture``, ``report`` and
-#: ``animation`` (by the command line); ``mechanism.*`` is the picture's default name.
-RESULT_FILES = tuple(name for name, _, _ in TABLES.values())
-#: What ``lamodel solve`` writes beside them for --method all, load cases, rolling loads.
-COMPANION_FILES = ("methods.csv", "cases.csv", "rolling.csv", "rolling.png")
-PICTURE_STEM = "mechanism"
-_PICTURE_EXTENSIONS = {"png", "svg", "svgz", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf",
-                       "raw", "rgba", "gif", "avif"}  # matplotlib's formats
-_RECORDED = {"picture": _PICTURE_EXTENSIONS, "report": {"html", "htm"}, "animation": {"gif"}}
-_LEFTOVER = re.compile(r"^\.(?P<name>.+)\.[^.]+\.(tmp|bak)$")  # temporary files of older lamodel versions
-
-
-def _recorded_files(folder: Path) -> set:
-    """The files beside the tables that the folder's summary.csv names as written there."""
-    try:
-        with open(folder / "summary.csv", newline="", encoding="utf-8") as fh:
-            row = next(csv.DictReader(fh), None) or {}
-    except (OSError, UnicodeDecodeError, csv.Error):
-        return set()
-    names = set()
-    for column, extensions in _RECORDED.items():
-        name = str(row.get(column) or "")
-        if name == Path(name).name and not name.startswith(".") and name.rsplit(".", 1)[-1].lower() in extensions:
-            names.add(name)
-    return names
-
-
-def foreign_files(folder, names) -> list:
-    """The names in a result folder that lamodel did not write (they make it refuse to
-    replace the folder: a user's own files are never deleted)."""
-    folder = Path(folder)
-    ours = {*RESULT_FILES, *COMPANION_FILES, *_recorded_files(folder)}
-
-    def owned(name):
-        if name in ours or (name.startswith(PICTURE_STEM + ".")
-                            and name[len(PICTURE_STEM) + 1:].lower() in _PICTURE_EXTENSIONS):
-            return os.path.isfile(folder / name) or os.path.islink(folder / name)
-        m = _LEFTOVER.match(name)
-        return bool(m) and owned(m["name"])
-    return [n for n in names if not owned(n)]
+# the folder's file names live in .folder (no pandas there); re-exported here
+from .folder import COMPANION_FILES, PICTURE_STEM, RESULT_FILES, foreign_files  # noqa: E402,F401
 
 
 # --------------------------------------------------------------------------- the object
