@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 import traceback
 from pathlib import Path
 
@@ -636,12 +638,45 @@ def _parser(prog="lamodel", command=None) -> argparse.ArgumentParser:
 def command(name: str | None, argv=None, prog: str = "lamodel") -> int:
     """Run one command (``name``) or the whole ``lamodel`` command line (``name=None``);
     returns the exit status."""
-    argv = list(sys.argv[1:] if argv is None else argv)
+    global _sigint_seen
+    old = None
     try:
-        return _command(name, argv, prog)
+        _sigint_seen = False
+        old = _watch_sigint()
+        return _command(name, list(sys.argv[1:] if argv is None else argv), prog)
     except KeyboardInterrupt:  # e.g. while the parser imports the search's choices
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Exception:
+        if not _sigint_seen:
+            raise
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    finally:
+        if old is not None:
+            signal.signal(signal.SIGINT, old)
+
+
+_sigint_seen = False
+
+
+def _on_sigint(signum, frame):
+    global _sigint_seen
+    _sigint_seen = True
+    raise KeyboardInterrupt
+
+
+def _watch_sigint():
+    """Ctrl-C raises KeyboardInterrupt as usual, and is remembered: an extension module
+    interrupted while it loads (numpy's C core) re-raises it as an ImportError, which
+    must still end the run as an interrupt (130), not as an internal error. Returns the
+    previous handler, or None when nothing was changed (not the main thread, or SIGINT
+    ignored or handled by the program that called us)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        return None
+    return signal.signal(signal.SIGINT, _on_sigint)
 
 
 def _command(name, argv, prog):
@@ -665,6 +700,9 @@ def _command(name, argv, prog):
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Exception as exc:
+        if _sigint_seen:  # an import that Ctrl-C broke (see _watch_sigint)
+            print(f"{prog}: interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
         from .errors import InputError
         if debug:
             traceback.print_exc()

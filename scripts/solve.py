@@ -11,7 +11,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a check
 if __name__ == "__main__":
     try:
         from lamodel.cli import command, exit_now
-    except KeyboardInterrupt:
+        status = command("solve", prog="solve.py")
+    except KeyboardInterrupt:  # Ctrl-C before lamodel's own handling is in place
         print("solve.py: interrupted", file=sys.stderr)
         sys.exit(130)
-    exit_now(command("solve", prog="solve.py"))
+    exit_now(status)

@@ -589,23 +589,66 @@ def test_ctrl_c_is_recorded_in_runs(interrupted):
     assert r.summary.n_certified[0] >= int(r.certified)
 
 
-def _solve_wall33(out, preexec_fn):
+def _solve_wall33(out, preexec_fn, *python_options):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.Popen([sys.executable, str(ROOT / "scripts" / "solve.py"), str(INSTANCES / "wall33.dat"),
+    return subprocess.Popen([sys.executable, *python_options, str(ROOT / "scripts" / "solve.py"), str(INSTANCES / "wall33.dat"),
                              "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=env, preexec_fn=preexec_fn)
 
 
-@pytest.mark.parametrize("after", [0.15, 0.5])
+@pytest.mark.parametrize("after", [0.0, 0.05, 0.15, 0.3, 0.5])
 def test_ctrl_c_during_start_up(tmp_path, after):
     """Ctrl-C while the modules load (the command-line parser imports the search's
-    choices, numpy with them) is an interrupt like any other: exit 130, no traceback."""
-    p = _solve_wall33(tmp_path / "o", _sigint_as_a_terminal_sends_it)
+    choices, numpy with them) is an interrupt like any other: exit 130, no traceback.
+
+    Timed from the moment lamodel's command line is loaded (``-X importtime`` reports
+    it): earlier, the interpreter is still starting up (site, the editable install's
+    finder) and what Ctrl-C does there is Python's business, not ours."""
+    p = _solve_wall33(tmp_path / "o", _sigint_as_a_terminal_sends_it, "-X", "importtime")
+    seen = []
+    for line in p.stderr:
+        seen.append(line)
+        if line.rstrip().endswith("lamodel.cli"):
+            break
+    else:
+        pytest.fail("lamodel.cli was never imported: " + "".join(seen[-5:]))
     time.sleep(after)
     p.send_signal(signal.SIGINT)
     _, stderr = p.communicate(timeout=60)
+    stderr = "".join(l for l in stderr.splitlines(keepends=True) if not l.startswith("import time:"))
     assert p.returncode == 130 and "Traceback" not in stderr, (p.returncode, stderr[-500:])
     assert not (tmp_path / "o").exists() or Results.read(tmp_path / "o") is not None  # whole, if written
+
+
+def test_ctrl_c_inside_an_extension_import(monkeypatch, capsys):
+    """numpy's C core turns a KeyboardInterrupt during its own import into an ImportError
+    ("PyCapsule_Import could not import module 'datetime'"): still an interrupt, 130."""
+    import lamodel.cli as cli
+
+    def parser_whose_import_is_interrupted(*args, **kwargs):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(5)  # the signal arrives during this
+        except KeyboardInterrupt:
+            raise ImportError('PyCapsule_Import could not import module "datetime"') from None
+        raise AssertionError("SIGINT did not arrive")
+
+    monkeypatch.setattr(cli, "_parser", parser_whose_import_is_interrupted)
+    assert cli.command("solve", ["instances/wall33.dat"], prog="solve.py") == 130
+    err = capsys.readouterr().err
+    assert err.strip() == "solve.py: interrupted", err
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # put back
+
+
+def test_an_import_error_without_ctrl_c_is_not_an_interrupt(monkeypatch):
+    import lamodel.cli as cli
+
+    def broken(*args, **kwargs):
+        raise ImportError("no module named nowhere")
+
+    monkeypatch.setattr(cli, "_parser", broken)
+    with pytest.raises(ImportError):
+        cli.command("solve", ["instances/wall33.dat"], prog="solve.py")
 
 
 def test_ignored_sigint_stays_ignored(tmp_path):
