@@ -634,10 +634,15 @@ def test_ctrl_c_inside_an_extension_import(monkeypatch, capsys):
         raise AssertionError("SIGINT did not arrive")
 
     monkeypatch.setattr(cli, "_parser", parser_whose_import_is_interrupted)
-    assert cli.command("solve", ["instances/wall33.dat"], prog="solve.py") == 130
+    # as in a terminal (a CI runner may start the tests with SIGINT ignored)
+    outer = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        assert cli.command("solve", ["instances/wall33.dat"], prog="solve.py") == 130
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # put back
+    finally:
+        signal.signal(signal.SIGINT, outer)
     err = capsys.readouterr().err
     assert err.strip() == "solve.py: interrupted", err
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # put back
 
 
 def test_an_import_error_without_ctrl_c_is_not_an_interrupt(monkeypatch):
