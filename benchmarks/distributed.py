@@ -4,6 +4,7 @@ the overhead of a Dask cluster (a LocalCluster on 127.0.0.1) against local proce
 
     PYTHONPATH=$PWD python benchmarks/distributed.py                 # 40 variants of wall33
     PYTHONPATH=$PWD python benchmarks/distributed.py --variants 8    # quicker
+    PYTHONPATH=$PWD python benchmarks/distributed.py --exploration bond10   # the GA phase of one solve
 
 The study is wall33 (starts 0: LPs only) with mu from 0.3 to 0.9 in ``--variants`` steps;
 each configuration solves the same variants with the same seeds, so the tables agree (the
@@ -26,7 +27,13 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--variants", type=int, default=40, help="variants of the study (default 40)")
     p.add_argument("--instance", default=str(ROOT / "instances" / "wall33.json"))
+    p.add_argument("--exploration", metavar="CASE",
+                   help="instead: the GA phase of one solve of a benchmarks/scale.py case (e.g. bond10) "
+                        "with --workers 1 and 2 (threads), and without --workers (serial, warm)")
+    p.add_argument("--generations", type=int, default=5, help="GA generations for --exploration (default 5)")
     args = p.parse_args(argv)
+    if args.exploration:
+        return exploration(args.exploration, args.generations)
 
     import os
 
@@ -80,6 +87,36 @@ def main(argv=None):
     print("\nevery configuration gave the same table (alpha, modes, seeds) for each case")
     print(f"load average {load:.2f} before, {os.getloadavg()[0]:.2f} after: other work on these cores "
           "takes from the speed-up (2 workers cannot beat 1 on one free core)")
+
+
+def exploration(case, generations):
+    """The GA phase (``phases['ga']``) of one solve, its LP count and alpha, by workers."""
+    import os
+
+    import pandas as pd
+
+    from benchmarks.scale import build
+    from lamodel.search.driver import solve
+    from lamodel.search.options import SolveOptions
+
+    structure = build(case)
+    print(f"{case}: {structure.n_blocks} blocks, {generations} generations, {os.cpu_count()} cores, "
+          f"load average {os.getloadavg()[0]:.2f} before", flush=True)
+    rows = []
+    for workers in (1, 2, None):
+        t = time.perf_counter()
+        o = solve(structure, SolveOptions(seed=0, starts=0, ga_workers=workers, generations=generations))
+        rows.append({"workers": "none (serial, warm)" if workers is None else workers,
+                     "ga seconds": o.phases.get("ga", float("nan")), "solve seconds": time.perf_counter() - t,
+                     "LPs": o.runs[0].iterations, "alpha": o.best.alpha if o.best is not None else float("nan")})
+        print(f"  workers {rows[-1]['workers']}: GA {rows[-1]['ga seconds']:.2f} s", flush=True)
+    df = pd.DataFrame(rows)
+    df["GA speed-up vs 1"] = df["ga seconds"].iloc[0] / df["ga seconds"]
+    print()
+    print(df.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    same = df["alpha"].iloc[0] == df["alpha"].iloc[1] and df["LPs"].iloc[0] == df["LPs"].iloc[1]
+    print(f"\n1 and 2 workers: {'the same' if same else 'DIFFERENT'} alpha and LP count; "
+          f"load average {os.getloadavg()[0]:.2f} after")
 
 
 if __name__ == "__main__":

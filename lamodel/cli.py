@@ -87,7 +87,9 @@ def _solve_arguments(p):
                         "(runs.csv has a row for each: its result, or why it was skipped: fewer distinct states, "
                         "or the time limit). Default: up to 2, only when the model is small enough for a start "
                         "to take about a second; 0: LPs only")
-    _where_arguments(p, "worker processes for the Ipopt starts (default: all cores)",
+    _where_arguments(p, "W threads for the GA's evaluations (each generation from one snapshot: the same answer "
+                        "for any W) and W processes for the Ipopt starts. Default: the GA's evaluations one after "
+                        "the other, warm (a serial run's answer), all cores for the Ipopt starts",
                      "run the Ipopt starts on this dask.distributed scheduler instead")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
     p.add_argument("--pop-size", type=_whole(2), default=None,
@@ -167,7 +169,8 @@ def _solve_with(args, prog, painter) -> int:
     for w in caught:  # always shown (--quiet too): they change the answer; one line each
         if issubclass(w.category, UserWarning):
             print(f"{prog}: warning: {w.message}", file=sys.stderr)
-    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, time_limit=args.time_limit,
+    options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, ga_workers=args.workers,
+                           time_limit=args.time_limit,
                            pop_size=args.pop_size or SolveOptions.pop_size,
                            generations=args.generations or SolveOptions.generations,
                            solver=args.solver, progress=not args.quiet, scheduler=args.scheduler)

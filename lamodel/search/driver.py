@@ -221,24 +221,92 @@ def _genetic_search(engine, opt, progress):
         return (state["since"] >= opt.pop_size
                 and engine.n_lps() - state["lps"] >= STALL_WORK * lps_first)
 
-    def fitness(z):
-        if stalled():  # the rest of this generation is skipped, then the GA stops
-            return math.inf
-        alpha = engine.evaluate(z, reference_N=engine.reference_N(), chain_steps=opt.chain)
+    def counted(alpha, left=0):
+        """The GA's fitness of an evaluation whose states the engine has taken: the
+        stopping rule's counts follow, and no certificate is worth 10 + the best alpha.
+        ``left``: evaluations of this generation after this one, from the same snapshot
+        (they cannot use the improvement: the stall is counted after them)."""
         progress.tick()
         state["evals"] += 1
         if _better(_alpha(engine), state["best"]):
-            state.update(best=_alpha(engine), since=0, lps=engine.n_lps())
+            state.update(best=_alpha(engine), since=-left, lps=engine.n_lps())
         else:
             state["since"] += 1
         return alpha if np.isfinite(alpha) else 10.0 + (state["best"] if np.isfinite(state["best"]) else 0.0)
+
+    def fitness(z):
+        if stalled():  # the rest of this generation is skipped, then the GA stops
+            return math.inf
+        return counted(engine.evaluate(z, reference_N=engine.reference_N(), chain_steps=opt.chain))
+
+    def merged(alpha, states, lps, learned, left):
+        """One pure evaluation's outcome, taken in task order (the stopping rule too)."""
+        if stalled():
+            return math.inf
+        engine.merge(states, lps, learned)
+        return counted(alpha, left)
 
     rng = np.random.default_rng(opt.seed)
     sigma = np.resize(Z_INIT, opt.pop_size)[:, None]  # small, medium and large perturbations
     initial = np.clip(sigma * rng.standard_normal((opt.pop_size, nc)), -Z_MAX, Z_MAX)
     initial[0] = 0.0
-    genetic_search(fitness, nc, initial=initial, lower=-Z_MAX, upper=Z_MAX, pop_size=opt.pop_size,
-                   generations=opt.generations, seed=opt.seed, out_of_time=stalled)
+    t = time.perf_counter()
+    try:
+        with _Generations(engine, opt, merged) as generations:
+            genetic_search(fitness, nc, initial=initial, lower=-Z_MAX, upper=Z_MAX, pop_size=opt.pop_size,
+                           generations=opt.generations, seed=opt.seed, out_of_time=stalled,
+                           batch_fitness=generations.evaluate if generations.parallel else None)
+    finally:
+        engine._phase("ga", t)
+
+
+class _Generations:
+    """With ``ga_workers=N`` (``--workers N``): each GA generation evaluated by N engines in threads (HiGHS
+    releases the GIL while it solves), every evaluation a pure function of the snapshot
+    taken at the generation's start and of its genome (GapSearch.evaluate_pure), merged
+    in task order: the same answer for any N. Without it (``parallel`` False)
+    the evaluations follow each other on the search's own warm engine, as in a serial run.
+    """
+
+    def __init__(self, engine, opt, merged):
+        self.engine, self.opt, self.merged = engine, opt, merged
+        self.parallel = opt.ga_workers is not None
+        self.pool = self.idle = None
+
+    def __enter__(self):
+        if self.parallel:
+            import queue
+            from concurrent.futures import ThreadPoolExecutor
+            self.pool = ThreadPoolExecutor(self.opt.ga_workers, thread_name_prefix="lamodel-ga")
+            self.idle = queue.SimpleQueue()  # evaluator engines, built on first need
+        return self
+
+    def __exit__(self, *exc):
+        if self.pool is not None:
+            self.pool.shutdown(wait=True, cancel_futures=True)
+
+    def _one(self, snap, genome):
+        try:
+            ev = self.idle.get_nowait()
+        except Exception:  # queue.Empty: this thread's first evaluation
+            ev = self.engine.evaluator()
+        try:
+            return ev.evaluate_pure(snap, genome, chain_steps=self.opt.chain)
+        finally:
+            self.idle.put(ev)
+
+    def evaluate(self, X):
+        snap = self.engine.snapshot()
+        futures = [self.pool.submit(self._one, snap, z) for z in X]
+        out = np.full(len(X), math.inf)
+        for i, fut in enumerate(futures):
+            try:
+                out[i] = self.merged(*fut.result(), len(X) - 1 - i)
+            except Stopped:
+                for f in futures[i + 1:]:
+                    f.cancel()
+                raise
+        return out
 
 
 def _nothing_certified(engine, alpha_assoc, stopped):

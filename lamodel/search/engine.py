@@ -203,6 +203,16 @@ class _LP:
         self.lo, self.hi = np.asarray(lo, float).copy(), np.asarray(hi, float).copy()
         self.deadline = deadline
         self.name = name
+        self._built = (self.cost.copy(), self.lo.copy(), self.hi.copy())
+        self._fresh()
+        self.n_solves = 0
+        self.seconds = 0.0
+        self.trace = None  # a print-like function to log every solve
+        self.warm_seconds = None  # running mean of the solve times
+        self.abandoned = False
+
+    def _fresh(self):
+        """A new HiGHS object holding this LP (current costs and bounds), cold."""
         h = self.h = highspy.Highs()
         h.setOptionValue("output_flag", False)
         h.setOptionValue("primal_feasibility_tolerance", LP_TOLERANCE)
@@ -222,11 +232,16 @@ class _LP:
             h.cbSimplexInterrupt.subscribe(self._interrupt)
             h.cbIpmInterrupt.subscribe(self._interrupt)
         self.cold = True
-        self.n_solves = 0
-        self.seconds = 0.0
-        self.trace = None  # a print-like function to log every solve
-        self.warm_seconds = None  # running mean of the solve times
-        self.abandoned = False
+
+    def restart(self, basis):
+        """Forget every solve so far: a new HiGHS object (options and solver state as
+        built), warm from ``basis`` (None: cold)."""
+        self._usable()
+        self.cost, self.lo, self.hi = (v.copy() for v in self._built)
+        self._fresh()
+        if basis is not None:
+            self.h.setBasis(basis)
+            self.cold = False
 
     def _interrupt(self, e):
         if self.abandoned or self.deadline.expired():
@@ -535,6 +550,7 @@ class GapSearch:
         self.first = None
         self.history = []
         self.N_assoc = None
+        self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see evaluate_many)
 
     # ------------------------------------------------------------------ bookkeeping
     def _phase(self, name, t):
@@ -544,7 +560,7 @@ class GapSearch:
         return time.perf_counter() - self.t0
 
     def n_lps(self):
-        return self.stat.n_solves + self.coh.n_solves + self.coh_r.n_solves
+        return self.stat.n_solves + self.coh.n_solves + self.coh_r.n_solves + self.lps_elsewhere
 
     # ------------------------------------------------------------------- the pieces
     def forces(self, lam):
@@ -928,6 +944,53 @@ class GapSearch:
         if st is not None and (best is None or st.alpha < best.alpha):
             best = st
         return INF if best is None else best.alpha
+
+    # ------------------------------------------------- evaluations in parallel
+    def snapshot(self) -> dict:
+        """What a pure evaluation starts from (:meth:`evaluate_pure`): the warm bases of
+        the three LPs, the time cap of hard LPs and the reference normal forces, frozen."""
+        return dict(bases={name: None if lp.cold else lp.h.getBasis()
+                           for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r))},
+                    warm_seconds=self.stat.warm_seconds, reference_N=self.reference_N(),
+                    certified=dict(self._certified), descended=dict(self._descended))
+
+    def evaluator(self) -> "GapSearch":
+        """An engine of its own (HiGHS objects, caches) on the same structure and deadline,
+        for evaluations in another thread (HiGHS releases the GIL while it solves)."""
+        return GapSearch(self.user, self.deadline, seed=0)
+
+    def evaluate_pure(self, snap: dict, genome, chain_steps=3):
+        """:meth:`evaluate` as a pure function of (snapshot, genome): this engine's LPs
+        restart from the snapshot's bases on new HiGHS objects, its caches are the
+        snapshot's and its records emptied, so the outcome does not depend on what it
+        evaluated before (nor on which thread or how many run). Returns (alpha, certified
+        states in the order found (scaled units), LP solves, what it added to the caches)."""
+        for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r)):
+            lp.restart(snap["bases"][name])
+        self.stat.warm_seconds = snap["warm_seconds"]
+        self._certified, self._descended = dict(snap["certified"]), dict(snap["descended"])
+        self.best = self.best_user = self.first = None
+        self.history = []
+        found = []
+        self.on_state = found.append
+        lps = self.n_lps()
+        alpha = self.evaluate(genome, reference_N=snap["reference_N"], chain_steps=chain_steps)
+        learned = ({k: v for k, v in self._certified.items() if k not in snap["certified"]},
+                   {k: v for k, v in self._descended.items() if k not in snap["descended"]})
+        return alpha, found, self.n_lps() - lps, learned
+
+    def merge(self, states, lps, learned=({}, {})):
+        """What an evaluator found, taken here as if found here (in the order given:
+        callers merge evaluations in task order): its certified states, its LP count and
+        what it learned (certifications and descents by flow pattern, for later snapshots)."""
+        for st in states:
+            if self.on_state is not None:
+                self.on_state(st)
+            self._record(st)
+        self.lps_elsewhere += lps
+        for mine, theirs in zip((self._certified, self._descended), learned):
+            for key, value in theirs.items():
+                mine.setdefault(key, value)
 
     # ---------------------------------------------------------------------- stalls
     def rescue(self, x_assoc):

@@ -25,12 +25,15 @@ from pymoo.optimize import minimize
 class _CohesionProblem(Problem):
     """min fitness(g) over g in [lower, upper]^n (one gene per contact)."""
 
-    def __init__(self, fitness, lower, upper):
+    def __init__(self, fitness, lower, upper, batch_fitness=None):
         super().__init__(n_var=len(lower), n_obj=1, xl=np.asarray(lower, float), xu=np.asarray(upper, float))
-        self.fitness = fitness
+        self.fitness, self.batch_fitness = fitness, batch_fitness
 
     def _evaluate(self, X, out, *args, **kwargs):
-        out["F"] = np.array([[self.fitness(x)] for x in X])
+        if self.batch_fitness is not None:  # a generation at once (evaluated in parallel)
+            out["F"] = np.asarray(self.batch_fitness(np.asarray(X, float)), float).reshape(-1, 1)
+        else:
+            out["F"] = np.array([[self.fitness(x)] for x in X])
 
 
 class _ExactDuplicates(DefaultDuplicateElimination):
@@ -63,11 +66,12 @@ class _Budget(Termination):
 
 
 def genetic_search(fitness, n_genes: int, initial=None, lower=0.0, upper=2.0, pop_size: int = 16,
-                   generations: int = 8, seed: int = 0, out_of_time=lambda: False):
+                   generations: int = 8, seed: int = 0, out_of_time=lambda: False, batch_fitness=None):
     """Minimise fitness(genome) with a GA; returns (best genome, best fitness, n_evaluations).
 
     ``initial`` rows (e.g. the genome of the associative solution) seed the first
     population; the rest of it is drawn uniformly from the box by the seeded generator.
+    ``batch_fitness(X)``, when given, evaluates a whole generation (rows of X) at once.
     """
     lower = np.full(n_genes, lower, dtype=float)
     upper = np.full(n_genes, upper, dtype=float)
@@ -78,7 +82,7 @@ def genetic_search(fitness, n_genes: int, initial=None, lower=0.0, upper=2.0, po
         pop[:len(initial)] = np.clip(initial, lower, upper)
     algorithm = GA(pop_size=pop_size, sampling=pop, crossover=SBX(prob=0.9, eta=15),
                    mutation=PM(eta=20), eliminate_duplicates=_ExactDuplicates())
-    problem = _CohesionProblem(fitness, lower, upper)
+    problem = _CohesionProblem(fitness, lower, upper, batch_fitness)
     res = minimize(problem, algorithm, _Budget(generations, out_of_time), seed=seed, verbose=False)
     n_eval = int(res.algorithm.evaluator.n_eval)
     if res.X is None:

@@ -19,6 +19,7 @@ class SolveOptions:
     seed: int = 0
     starts: int | None = None      # Ipopt solves of eq. (5); None: up to 2 when cheap (driver)
     workers: int | None = None     # worker processes (default: all cores)
+    ga_workers: int | None = None  # threads for the GA's generations (pure evaluations); None: serial, warm
     time_limit: float | None = None
     pop_size: int = 10
     generations: int = 5
@@ -43,6 +44,7 @@ class SolveOptions:
         whole("seed", -2**63)
         whole("starts", 0, allow_none=True)
         whole("workers", 1, allow_none=True)
+        whole("ga_workers", 1, allow_none=True)
         whole("pop_size", 2)
         whole("generations", 1)
         whole("chain", 1)
