@@ -38,6 +38,7 @@ import numpy as np
 from ..structure import Structure
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .ipopt import EPSILON_LADDER, start_pool
+from .generations import Generations, parallel
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
 from .state import CollapseState, Run
 
@@ -193,6 +194,11 @@ def _search(engine, opt, progress, client=None):
         engine.alternate(x0, source="gap")
         if engine.best is None:
             engine.rescue(x0)
+        if parallel(opt):
+            # the GA's pure evaluations start from the first certificate's bases: the
+            # stability LP's (alpha = 0) is far from every collapse state (bond10: 1400
+            # simplex iterations to the first statics of an evaluation, against 60)
+            engine.carry_bases()
         engine.checked_stable = engine.stable()
         if not engine.checked_stable:
             engine.best = engine.best_user = None
@@ -214,7 +220,6 @@ def _genetic_search(engine, opt, progress, client=None):
     ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
     in parallel (:mod:`.generations`; ``client``: a Dask connection to use)."""
     from .ga import genetic_search
-    from .generations import Generations
     nc = engine.nc
     lps_first = max(engine.n_lps(), 1)  # the work the first certificate took
     state = {"evals": 0, "since": 0, "best": _alpha(engine), "lps": engine.n_lps()}

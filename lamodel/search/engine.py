@@ -242,8 +242,8 @@ class _LP:
         if basis is not None:
             b = highspy.HighsBasis()
             status = highspy.HighsBasisStatus
-            b.col_status = [status(int(v)) for v in basis[0]]
-            b.row_status = [status(int(v)) for v in basis[1]]
+            b.col_status = list(map(status, basis[0].tolist()))
+            b.row_status = list(map(status, basis[1].tolist()))
             b.valid, b.alien = True, False  # as HiGHS left it: taken as is, not repaired
             self.h.setBasis(b)
             self.cold = False
@@ -254,8 +254,7 @@ class _LP:
         if self.cold:
             return None
         b = self.h.getBasis()
-        return (np.array([int(v) for v in b.col_status], np.int8),
-                np.array([int(v) for v in b.row_status], np.int8))
+        return np.array(b.col_status, np.int8), np.array(b.row_status, np.int8)
 
     def _interrupt(self, e):
         if self.abandoned or self.deadline.expired():
@@ -566,7 +565,8 @@ class GapSearch:
         self.first = None
         self.history = []
         self.N_assoc = None
-        self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see evaluate_many)
+        self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see merge)
+        self._carried_bases = None  # the last merged evaluation's final bases (see snapshot)
 
     # ------------------------------------------------------------------ bookkeeping
     def _phase(self, name, t):
@@ -968,12 +968,22 @@ class GapSearch:
     # ------------------------------------------------- evaluations in parallel
     def snapshot(self) -> dict:
         """What a pure evaluation starts from (:meth:`evaluate_pure`): the warm bases of
-        the three LPs, the reference normal forces and the caches (certifications and
-        descents by flow pattern), frozen. Plain arrays and states: it pickles (Dask)."""
-        return dict(bases={name: lp.portable_basis()
-                           for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r))},
+        the three LPs (those the last evaluation taken ended with, as a serial search
+        goes on from the previous evaluation's; this engine's own before any), the
+        reference normal forces and the caches (certifications and descents by flow
+        pattern), frozen. Plain arrays and states: it pickles (Dask)."""
+        return dict(bases=self._carried_bases or self._bases(),
                     reference_N=self.reference_N(),
                     certified=dict(self._certified), descended=dict(self._descended))
+
+    def _bases(self):
+        return {name: lp.portable_basis() for name, lp in (("stat", self.stat), ("coh", self.coh),
+                                                           ("coh_r", self.coh_r))}
+
+    def carry_bases(self):
+        """The LPs' bases now are those the next snapshot starts from (until an evaluation
+        is merged)."""
+        self._carried_bases = self._bases()
 
     def evaluator(self) -> "GapSearch":
         """An engine of its own (HiGHS objects, caches) on the same structure and deadline,
@@ -992,7 +1002,8 @@ class GapSearch:
         snapshot's and its records emptied, so the outcome does not depend on what it
         evaluated before (nor on which thread, process or machine, or how many run: every
         cap is counted in iterations). Returns (alpha, certified states in the order found
-        (scaled units), LP solves, what it added to the caches)."""
+        (scaled units), LP solves, what it learned: its additions to the caches and the
+        bases it ended with)."""
         for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r)):
             lp.restart(snap["bases"][name])
         self._certified, self._descended = dict(snap["certified"]), dict(snap["descended"])
@@ -1002,22 +1013,26 @@ class GapSearch:
         self.on_state = found.append
         lps = self.n_lps()
         alpha = self.evaluate(genome, reference_N=snap["reference_N"], chain_steps=chain_steps)
-        learned = ({k: v for k, v in self._certified.items() if k not in snap["certified"]},
-                   {k: v for k, v in self._descended.items() if k not in snap["descended"]})
+        learned = dict(certified={k: v for k, v in self._certified.items() if k not in snap["certified"]},
+                       descended={k: v for k, v in self._descended.items() if k not in snap["descended"]},
+                       bases=self._bases())
         return alpha, found, self.n_lps() - lps, learned
 
-    def merge(self, states, lps, learned=({}, {})):
+    def merge(self, states, lps, learned=None):
         """What an evaluator found, taken here as if found here (in the order given:
         callers merge evaluations in task order): its certified states, its LP count and
-        what it learned (certifications and descents by flow pattern, for later snapshots)."""
+        what it learned (certifications and descents by flow pattern, and its final bases,
+        for later snapshots)."""
         for st in states:
             if self.on_state is not None:
                 self.on_state(st)
             self._record(st)
         self.lps_elsewhere += lps
-        for mine, theirs in zip((self._certified, self._descended), learned):
-            for key, value in theirs.items():
-                mine.setdefault(key, value)
+        if learned is not None:
+            for mine, theirs in ((self._certified, learned["certified"]), (self._descended, learned["descended"])):
+                for key, value in theirs.items():
+                    mine.setdefault(key, value)
+            self._carried_bases = learned["bases"]
 
     # ---------------------------------------------------------------------- stalls
     def rescue(self, x_assoc):

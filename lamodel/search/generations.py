@@ -30,6 +30,11 @@ from .options import Deadline, Stopped
 WAIT_SLICE = 0.1
 
 
+def parallel(opt) -> bool:
+    """Are the GA's evaluations pure (``opt.ga_workers`` or ``opt.scheduler`` given)?"""
+    return opt.ga_workers is not None or opt.scheduler is not None
+
+
 class Evaluators:
     """Engines of one structure for pure evaluations, built on first need and reused (a
     HiGHS model is built once; each evaluation only re-warms it from the snapshot): one
@@ -154,7 +159,7 @@ class Generations:
 
     def __init__(self, engine, opt, take, stalled, client=None):
         self.engine, self.opt, self.take, self.stalled, self.client = engine, opt, take, stalled, client
-        self.parallel = opt.ga_workers is not None or opt.scheduler is not None
+        self.parallel = parallel(opt)
         self.backend = None
 
     def __enter__(self):
