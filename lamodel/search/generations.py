@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import queue
+import threading
 import uuid
 
 import numpy as np
@@ -132,11 +133,17 @@ class _Dask:
 
 
 class _DaskOutcome:
+    """A Dask future waited for in slices. (Not ``future.result(timeout)``: distributed
+    2026.8 can lose the result of a call whose timeout races the answer.)"""
+
     def __init__(self, future):
-        self.future = future
+        self.future, self.done = future, threading.Event()
+        future.add_done_callback(lambda _: self.done.set())
 
     def result(self, timeout=None):
-        value = self.future.result(timeout=timeout)
+        if not self.done.wait(timeout):
+            raise TimeoutError()
+        value = self.future.result()
         if value is None:
             raise Stopped()
         return value
