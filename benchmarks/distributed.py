@@ -31,7 +31,8 @@ def main(argv=None):
                    help="instead: the GA phase of one solve of a benchmarks/scale.py case (e.g. bond10) "
                         "with --workers 1 and 2 (threads), on a 2-worker Dask LocalCluster, and without "
                         "--workers (serial, warm)")
-    p.add_argument("--generations", type=int, default=5, help="GA generations for --exploration (default 5)")
+    p.add_argument("--generations", type=int, default=3,
+                   help="GA generations for --exploration, all of them run: the stopping rule is off (default 3)")
     args = p.parse_args(argv)
     if args.exploration:
         return exploration(args.exploration, args.generations)
@@ -93,7 +94,10 @@ def main(argv=None):
 def exploration(case, generations):
     """The GA phase (``phases['ga']``) of one solve, its LP count and alpha: pure evaluations
     with 1 and 2 threads and on a 2-worker Dask LocalCluster (twice: the first solve also
-    builds each worker's engine), and the serial warm GA (no --workers)."""
+    builds each worker's engine), and the serial warm GA (no --workers). The stopping rule
+    is off, so that every run evaluates ``generations`` full generations (bond10 stops
+    after one otherwise: its first certificate is already its best)."""
+    import math
     import os
 
     import dask
@@ -101,9 +105,11 @@ def exploration(case, generations):
     from distributed import LocalCluster
 
     from benchmarks.scale import build
+    from lamodel.search import driver
     from lamodel.search.driver import solve
     from lamodel.search.options import SolveOptions
 
+    driver.STALL_WORK = math.inf  # never stalled: exactly `generations` generations
     structure = build(case)
     print(f"{case}: {structure.n_blocks} blocks, {generations} generations, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f} before", flush=True)
