@@ -29,8 +29,10 @@ def main(argv=None):
     p.add_argument("--instance", default=str(ROOT / "instances" / "wall33.json"))
     p.add_argument("--exploration", metavar="CASE",
                    help="instead: the GA phase of one solve of a benchmarks/scale.py case (e.g. bond10) "
-                        "with --workers 1 and 2 (threads), and without --workers (serial, warm)")
-    p.add_argument("--generations", type=int, default=5, help="GA generations for --exploration (default 5)")
+                        "with --workers 1 and 2 (threads), on a 2-worker Dask LocalCluster, and without "
+                        "--workers (serial, warm)")
+    p.add_argument("--generations", type=int, default=3,
+                   help="GA generations for --exploration, all of them run: the stopping rule is off (default 3)")
     args = p.parse_args(argv)
     if args.exploration:
         return exploration(args.exploration, args.generations)
@@ -90,32 +92,58 @@ def main(argv=None):
 
 
 def exploration(case, generations):
-    """The GA phase (``phases['ga']``) of one solve, its LP count and alpha, by workers."""
+    """The GA phase (``phases['ga']``) of one solve, its LP count and alpha: pure evaluations
+    with 1 and 2 threads and on a 2-worker Dask LocalCluster (twice: the first solve also
+    builds each worker's engine), and the serial warm GA (no --workers). The stopping rule
+    is off, so that every run evaluates ``generations`` full generations (bond10 stops
+    after one otherwise: its first certificate is already its best)."""
+    import math
     import os
 
+    import dask
     import pandas as pd
+    from distributed import LocalCluster
 
     from benchmarks.scale import build
+    from lamodel.search import driver
     from lamodel.search.driver import solve
     from lamodel.search.options import SolveOptions
 
+    driver.STALL_WORK = math.inf  # never stalled: exactly `generations` generations
     structure = build(case)
     print(f"{case}: {structure.n_blocks} blocks, {generations} generations, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f} before", flush=True)
     rows = []
-    for workers in (1, 2, None):
+
+    def timed(where, **kw):
         t = time.perf_counter()
-        o = solve(structure, SolveOptions(seed=0, starts=0, ga_workers=workers, generations=generations))
-        rows.append({"workers": "none (serial, warm)" if workers is None else workers,
-                     "ga seconds": o.phases.get("ga", float("nan")), "solve seconds": time.perf_counter() - t,
-                     "LPs": o.runs[0].iterations, "alpha": o.best.alpha if o.best is not None else float("nan")})
-        print(f"  workers {rows[-1]['workers']}: GA {rows[-1]['ga seconds']:.2f} s", flush=True)
+        o = solve(structure, SolveOptions(seed=0, starts=0, generations=generations, **kw))
+        rows.append({"where": where, "ga seconds": o.phases.get("ga", float("nan")),
+                     "solve seconds": time.perf_counter() - t, "LPs": o.runs[0].iterations,
+                     "alpha": o.best.alpha if o.best is not None else float("nan")})
+        print(f"  {where:<32} GA {rows[-1]['ga seconds']:7.2f} s", flush=True)
+
+    timed("1 thread", ga_workers=1)
+    timed("2 threads", ga_workers=2)
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
+                               env={"PYTHONPATH": str(ROOT)})
+    try:
+        from distributed import Client
+        with Client(cluster) as client:
+            client.wait_for_workers(2)
+        timed("dask, 2 workers (cold)", scheduler=cluster.scheduler_address)
+        timed("dask, 2 workers (warm)", scheduler=cluster.scheduler_address)
+    finally:
+        cluster.close()
+    timed("none (serial, warm)")
     df = pd.DataFrame(rows)
-    df["GA speed-up vs 1"] = df["ga seconds"].iloc[0] / df["ga seconds"]
+    df["GA speed-up vs 1 thread"] = df["ga seconds"].iloc[0] / df["ga seconds"]
     print()
     print(df.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
-    same = df["alpha"].iloc[0] == df["alpha"].iloc[1] and df["LPs"].iloc[0] == df["LPs"].iloc[1]
-    print(f"\n1 and 2 workers: {'the same' if same else 'DIFFERENT'} alpha and LP count; "
+    pure = df.iloc[:-1]
+    same = (pure["alpha"] == pure["alpha"].iloc[0]).all() and (pure["LPs"] == pure["LPs"].iloc[0]).all()
+    print(f"\nthreads and Dask: {'the same' if same else 'DIFFERENT'} alpha and LP count; "
           f"load average {os.getloadavg()[0]:.2f} after")
 
 

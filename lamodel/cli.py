@@ -90,7 +90,8 @@ def _solve_arguments(p):
     _where_arguments(p, "W threads for the GA's evaluations (each generation from one snapshot: the same answer "
                         "for any W) and W processes for the Ipopt starts. Default: the GA's evaluations one after "
                         "the other, warm (a serial run's answer), all cores for the Ipopt starts",
-                     "run the Ipopt starts on this dask.distributed scheduler instead")
+                     "run the GA's evaluations (as with --workers: the same answer) and the Ipopt starts "
+                     "on this dask.distributed scheduler instead")
     p.add_argument("--time-limit", type=_positive_float, default=None, help="seconds for the whole search")
     p.add_argument("--pop-size", type=_whole(2), default=None,
                    help=f"GA population (default {SolveOptions.pop_size}; {SEED_POP_SIZE} for --method seed)")
@@ -174,9 +175,9 @@ def _solve_with(args, prog, painter) -> int:
                            pop_size=args.pop_size or SolveOptions.pop_size,
                            generations=args.generations or SolveOptions.generations,
                            solver=args.solver, progress=not args.quiet, scheduler=args.scheduler)
-    if args.scheduler and args.starts != 0:
+    if args.scheduler:
         from .search.executor import check_scheduler
-        check_scheduler(args.scheduler)  # fail at once, not after the GA
+        check_scheduler(args.scheduler)  # fail at once, not after the first certificate
     structure = _with_rolling_option(structure, args)
     if args.method != "lamodel" and (structure.cases or structure.rolling is not None):
         raise InputError("--method other than lamodel takes one live load; expected no load cases or rolling load")

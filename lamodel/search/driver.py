@@ -38,6 +38,7 @@ import numpy as np
 from ..structure import Structure
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .ipopt import EPSILON_LADDER, start_pool
+from .generations import Generations, parallel
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
 from .state import CollapseState, Run
 
@@ -150,7 +151,8 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
         engine = GapSearch(structure, search_deadline, on_certified=on_certified, seed=opt.seed)
         engine.on_state = on_state
         t_search = time.perf_counter()
-        status, message, alpha_assoc = _search(engine, opt, progress)
+        # the GA's Dask tasks share the Ipopt starts' connection when there is one
+        status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None))
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, stop),
                         _alpha(engine) if engine.best is not None else np.nan, engine.n_lps(),
                         time.perf_counter() - t_search))
@@ -178,7 +180,7 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
 
 
 # ------------------------------------------------------------------------ the search
-def _search(engine, opt, progress):
+def _search(engine, opt, progress, client=None):
     """Steps 2-4 of the module doc. Returns (status, message, associative alpha)."""
     alpha_assoc = np.nan
     try:
@@ -192,6 +194,11 @@ def _search(engine, opt, progress):
         engine.alternate(x0, source="gap")
         if engine.best is None:
             engine.rescue(x0)
+        if parallel(opt):
+            # the GA's pure evaluations start from the first certificate's bases: the
+            # stability LP's (alpha = 0) is far from every collapse state (bond10: 1400
+            # simplex iterations to the first statics of an evaluation, against 60)
+            engine.carry_bases()
         engine.checked_stable = engine.stable()
         if not engine.checked_stable:
             engine.best = engine.best_user = None
@@ -199,7 +206,7 @@ def _search(engine, opt, progress):
         # the GA also runs when the first phase stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")
-        _genetic_search(engine, opt, progress)
+        _genetic_search(engine, opt, progress, client)
     except Stopped:
         if engine.best is None:
             return _nothing_certified(engine, alpha_assoc, stopped=True)
@@ -208,8 +215,10 @@ def _search(engine, opt, progress):
     return "certified", "", alpha_assoc
 
 
-def _genetic_search(engine, opt, progress):
-    """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc)."""
+def _genetic_search(engine, opt, progress, client=None):
+    """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc); with
+    ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
+    in parallel (:mod:`.generations`; ``client``: a Dask connection to use)."""
     from .ga import genetic_search
     nc = engine.nc
     lps_first = max(engine.n_lps(), 1)  # the work the first certificate took
@@ -239,10 +248,9 @@ def _genetic_search(engine, opt, progress):
             return math.inf
         return counted(engine.evaluate(z, reference_N=engine.reference_N(), chain_steps=opt.chain))
 
-    def merged(alpha, states, lps, learned, left):
-        """One pure evaluation's outcome, taken in task order (the stopping rule too)."""
-        if stalled():
-            return math.inf
+    def take(outcome, left):
+        """One pure evaluation's outcome (generations.py), taken in task order."""
+        alpha, states, lps, learned = outcome
         engine.merge(states, lps, learned)
         return counted(alpha, left)
 
@@ -252,61 +260,12 @@ def _genetic_search(engine, opt, progress):
     initial[0] = 0.0
     t = time.perf_counter()
     try:
-        with _Generations(engine, opt, merged) as generations:
+        with Generations(engine, opt, take, stalled, client) as generations:
             genetic_search(fitness, nc, initial=initial, lower=-Z_MAX, upper=Z_MAX, pop_size=opt.pop_size,
                            generations=opt.generations, seed=opt.seed, out_of_time=stalled,
                            batch_fitness=generations.evaluate if generations.parallel else None)
     finally:
         engine._phase("ga", t)
-
-
-class _Generations:
-    """With ``ga_workers=N`` (``--workers N``): each GA generation evaluated by N engines in threads (HiGHS
-    releases the GIL while it solves), every evaluation a pure function of the snapshot
-    taken at the generation's start and of its genome (GapSearch.evaluate_pure), merged
-    in task order: the same answer for any N. Without it (``parallel`` False)
-    the evaluations follow each other on the search's own warm engine, as in a serial run.
-    """
-
-    def __init__(self, engine, opt, merged):
-        self.engine, self.opt, self.merged = engine, opt, merged
-        self.parallel = opt.ga_workers is not None
-        self.pool = self.idle = None
-
-    def __enter__(self):
-        if self.parallel:
-            import queue
-            from concurrent.futures import ThreadPoolExecutor
-            self.pool = ThreadPoolExecutor(self.opt.ga_workers, thread_name_prefix="lamodel-ga")
-            self.idle = queue.SimpleQueue()  # evaluator engines, built on first need
-        return self
-
-    def __exit__(self, *exc):
-        if self.pool is not None:
-            self.pool.shutdown(wait=True, cancel_futures=True)
-
-    def _one(self, snap, genome):
-        try:
-            ev = self.idle.get_nowait()
-        except Exception:  # queue.Empty: this thread's first evaluation
-            ev = self.engine.evaluator()
-        try:
-            return ev.evaluate_pure(snap, genome, chain_steps=self.opt.chain)
-        finally:
-            self.idle.put(ev)
-
-    def evaluate(self, X):
-        snap = self.engine.snapshot()
-        futures = [self.pool.submit(self._one, snap, z) for z in X]
-        out = np.full(len(X), math.inf)
-        for i, fut in enumerate(futures):
-            try:
-                out[i] = self.merged(*fut.result(), len(X) - 1 - i)
-            except Stopped:
-                for f in futures[i + 1:]:
-                    f.cancel()
-                raise
-        return out
 
 
 def _nothing_certified(engine, alpha_assoc, stopped):
@@ -409,9 +368,7 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
                                          f"{'s' if len(starts) != 1 else ''} to start from")
     progress.phase("Ipopt on eq. 5")
     # the engine certifies Ipopt's points within the whole limit (the search had less)
-    engine.deadline = deadline
-    for lp in (engine.stat, engine.coh, engine.coh_r):
-        lp.deadline = deadline
+    engine.use_deadline(deadline)
     futures = {}
     for i, st in enumerate(starts, start=1):
         if deadline.left() < plan["estimate"] and deadline.at is not None:

@@ -67,9 +67,10 @@ GAP_HOLD = 1e-6
 FLOW_TOL = 1e-9
 #: Relative thresholds on slack used to call a row active when restricting mechanisms.
 ACTIVE_TOLS = (1e-9, 1e-7, 1e-5, 1e-3)
-#: Time cap of a certification LP: this many typical solve times, at least CERTIFY_CAP_MIN s.
-CERTIFY_CAP_FACTOR = 5.0
-CERTIFY_CAP_MIN = 1.0
+#: Cap of a statics LP that may be hard (certification, hold and first gap steps): this many
+#: simplex iterations a row. Counted, not timed, so that a seed gives the same answer on any
+#: machine and with any number of workers (see GapSearch._cap).
+CERTIFY_CAP_ROWS = 2.0
 #: Pressure step: how many of the most pushing held rows are tried one by one.
 PRESSURE_SINGLE = 8
 #: While HiGHS runs (in a worker thread) the caller checks the deadline this often (s).
@@ -94,7 +95,7 @@ def _join_abandoned():
         t.join(max(0.0, end - time.monotonic()))
 
 
-_CAPPED = object()  # a certification cut short by its time cap: not an answer to remember
+_CAPPED = object()  # a certification cut short by its iteration cap: not an answer to remember
 
 
 # ======================================================================= the LP algebra
@@ -208,7 +209,6 @@ class _LP:
         self.n_solves = 0
         self.seconds = 0.0
         self.trace = None  # a print-like function to log every solve
-        self.warm_seconds = None  # running mean of the solve times
         self.abandoned = False
 
     def _fresh(self):
@@ -235,13 +235,26 @@ class _LP:
 
     def restart(self, basis):
         """Forget every solve so far: a new HiGHS object (options and solver state as
-        built), warm from ``basis`` (None: cold)."""
+        built), warm from ``basis`` (:meth:`portable_basis`; None: cold)."""
         self._usable()
         self.cost, self.lo, self.hi = (v.copy() for v in self._built)
         self._fresh()
         if basis is not None:
-            self.h.setBasis(basis)
+            b = highspy.HighsBasis()
+            status = highspy.HighsBasisStatus
+            b.col_status = list(map(status, basis[0].tolist()))
+            b.row_status = list(map(status, basis[1].tolist()))
+            b.valid, b.alien = True, False  # as HiGHS left it: taken as is, not repaired
+            self.h.setBasis(b)
             self.cold = False
+
+    def portable_basis(self):
+        """HiGHS's current basis as two arrays of status codes (columns, rows), which
+        pickle (a HighsBasis does not): what :meth:`restart` starts from; None when cold."""
+        if self.cold:
+            return None
+        b = self.h.getBasis()
+        return np.array(b.col_status, np.int8), np.array(b.row_status, np.int8)
 
     def _interrupt(self, e):
         if self.abandoned or self.deadline.expired():
@@ -298,11 +311,13 @@ class _LP:
             self.h.changeColsBounds(changed.size, changed.astype(np.int32), lo[changed], hi[changed])
             self.lo, self.hi = lo.copy(), hi.copy()
 
-    def solve(self, cap: float | None = None) -> str:
+    def solve(self, cap: int | None = None) -> str:
         """'optimal', 'infeasible', 'unbounded' or another HiGHS status word; raises Stopped.
 
-        ``cap`` (s) bounds this solve alone: past it the status is 'time limit' and the
-        search goes on (a certification LP that would take minutes is not worth it).
+        ``cap`` (simplex iterations) bounds this warm solve alone: past it the status is
+        'iteration limit', the basis is the one it started from, and the search goes on (a
+        certification LP that would take minutes is not worth it). Iterations, not
+        seconds: the outcome does not depend on the machine or on its load.
         """
         self._usable()
         self.deadline.check()
@@ -310,10 +325,11 @@ class _LP:
         start = h.getBasis() if cap is not None and not self.cold else None
         if start is None:
             cap = None
+        # HiGHS counts simplex_iteration_limit per run (its iteration count restarts at 0)
+        h.setOptionValue("simplex_iteration_limit", highspy.kHighsIInf if cap is None else max(int(cap), 1))
         left = self.deadline.remaining()
-        limit = left if cap is None else min(left, cap)
         # HiGHS compares time_limit with the run time accumulated over all runs of this object
-        h.setOptionValue("time_limit", h.getRunTime() + float(max(limit, 1e-3)) if limit < INF else INF)
+        h.setOptionValue("time_limit", h.getRunTime() + float(max(left, 1e-3)) if left < INF else INF)
         t = time.perf_counter()
         if self.cold and self.n > IPM_COLUMNS:
             # Cold simplex on a large degenerate statics LP takes minutes; IPM + crossover
@@ -338,7 +354,7 @@ class _LP:
             # Warm re-solves: primal simplex (the dual was 10-100x slower on these LPs).
             h.setOptionValue("simplex_strategy", 1 if self.cold else 4)
             self._run()
-        was_cold, self.cold = self.cold, False
+        self.cold = False
         self.n_solves += 1
         dt = time.perf_counter() - t
         self.seconds += dt
@@ -349,12 +365,10 @@ class _LP:
                        f"{h.modelStatusToString(st)}")
         S = highspy.HighsModelStatus
         if st in (S.kInterrupt, S.kTimeLimit) or self.deadline.expired():
-            if self.deadline.expired() or st == S.kInterrupt or cap is None:
-                raise Stopped()
+            raise Stopped()
+        if st == S.kIterationLimit and cap is not None:
             h.setBasis(start)  # back to the basis the capped solve started from
-            return "time limit"
-        if not was_cold:
-            self.warm_seconds = dt if self.warm_seconds is None else 0.8 * self.warm_seconds + 0.2 * dt
+            return "iteration limit"
         if st == S.kOptimal:
             return "optimal"
         if st == S.kInfeasible:
@@ -364,6 +378,7 @@ class _LP:
         if st == S.kUnboundedOrInfeasible:
             # A warm basis can leave it undecided: a cold re-solve tells the two apart.
             h.clearSolver()
+            h.setOptionValue("simplex_iteration_limit", highspy.kHighsIInf)
             h.setOptionValue("solver", "simplex")
             h.setOptionValue("simplex_strategy", 1)
             h.setOptionValue("presolve", "off")
@@ -550,7 +565,8 @@ class GapSearch:
         self.first = None
         self.history = []
         self.N_assoc = None
-        self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see evaluate_many)
+        self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see merge)
+        self._carried_bases = None  # the last merged evaluation's final bases (see snapshot)
 
     # ------------------------------------------------------------------ bookkeeping
     def _phase(self, name, t):
@@ -660,16 +676,16 @@ class GapSearch:
         # took minutes at 2040 blocks. Instead: (1) min w^T lambda, the gap of this
         # mechanism, from the current (feasible) basis; zero means the rows can be held;
         # (2) then the held lambdas are already zero, so bounding them keeps the basis
-        # feasible, and min alpha is a warm primal solve. Each is capped at a few typical
-        # solve times: a certification that hard is not worth it now.
+        # feasible, and min alpha is a warm primal solve. Each is capped (iterations,
+        # GapSearch._cap): a certification that hard is not worth it now.
         cap = self._cap()
         status, x = self.statics(cost_lam=self.gap_weights(xi), alpha_cost=0.0, cap=cap)
-        if status == "time limit":
+        if status == "iteration limit":
             return _CAPPED
         if status != "optimal" or self.gap_weights(xi) @ x[:self.nl] > LP_TOLERANCE * max(1.0, x[-1]):
             return None
         status, x = self.statics(held=flow, cap=cap)
-        if status == "time limit":
+        if status == "iteration limit":
             return _CAPPED
         if status != "optimal":
             return None
@@ -677,8 +693,12 @@ class GapSearch:
         return self._accept(x, u, xi, flow, source)
 
     def _cap(self):
-        """Time cap (s) of a statics LP that may be hard (certification, hold step)."""
-        return max(CERTIFY_CAP_MIN, CERTIFY_CAP_FACTOR * (self.stat.warm_seconds or 1.0))
+        """Iteration cap of a statics LP that may be hard (certification, hold step, the
+        first gap step of a perturbation): CERTIFY_CAP_ROWS simplex iterations a row of
+        the statics (3 nb rows). Warm solves mostly take a few iterations, the hardest of
+        the 255- and 510-block running-bond walls up to 1.9 a row; one that needs more is
+        not worth it now."""
+        return int(CERTIFY_CAP_ROWS * self.stat.m)
 
     def _accept(self, x, u, xi, flow, source):
         s = self.forces(x)
@@ -948,26 +968,44 @@ class GapSearch:
     # ------------------------------------------------- evaluations in parallel
     def snapshot(self) -> dict:
         """What a pure evaluation starts from (:meth:`evaluate_pure`): the warm bases of
-        the three LPs, the time cap of hard LPs and the reference normal forces, frozen."""
-        return dict(bases={name: None if lp.cold else lp.h.getBasis()
-                           for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r))},
-                    warm_seconds=self.stat.warm_seconds, reference_N=self.reference_N(),
+        the three LPs (those the last evaluation taken ended with, as a serial search
+        goes on from the previous evaluation's; this engine's own before any), the
+        reference normal forces and the caches (certifications and descents by flow
+        pattern), frozen. Plain arrays and states: it pickles (Dask)."""
+        return dict(bases=self._carried_bases or self._bases(),
+                    reference_N=self.reference_N(),
                     certified=dict(self._certified), descended=dict(self._descended))
+
+    def _bases(self):
+        return {name: lp.portable_basis() for name, lp in (("stat", self.stat), ("coh", self.coh),
+                                                           ("coh_r", self.coh_r))}
+
+    def carry_bases(self):
+        """The LPs' bases now are those the next snapshot starts from (until an evaluation
+        is merged)."""
+        self._carried_bases = self._bases()
 
     def evaluator(self) -> "GapSearch":
         """An engine of its own (HiGHS objects, caches) on the same structure and deadline,
         for evaluations in another thread (HiGHS releases the GIL while it solves)."""
         return GapSearch(self.user, self.deadline, seed=0)
 
+    def use_deadline(self, deadline: Deadline):
+        """From now on this engine and its LPs stop at ``deadline``."""
+        self.deadline = deadline
+        for lp in (self.stat, self.coh, self.coh_r):
+            lp.deadline = deadline
+
     def evaluate_pure(self, snap: dict, genome, chain_steps=3):
         """:meth:`evaluate` as a pure function of (snapshot, genome): this engine's LPs
         restart from the snapshot's bases on new HiGHS objects, its caches are the
         snapshot's and its records emptied, so the outcome does not depend on what it
-        evaluated before (nor on which thread or how many run). Returns (alpha, certified
-        states in the order found (scaled units), LP solves, what it added to the caches)."""
+        evaluated before (nor on which thread, process or machine, or how many run: every
+        cap is counted in iterations). Returns (alpha, certified states in the order found
+        (scaled units), LP solves, what it learned: its additions to the caches and the
+        bases it ended with)."""
         for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r)):
             lp.restart(snap["bases"][name])
-        self.stat.warm_seconds = snap["warm_seconds"]
         self._certified, self._descended = dict(snap["certified"]), dict(snap["descended"])
         self.best = self.best_user = self.first = None
         self.history = []
@@ -975,22 +1013,26 @@ class GapSearch:
         self.on_state = found.append
         lps = self.n_lps()
         alpha = self.evaluate(genome, reference_N=snap["reference_N"], chain_steps=chain_steps)
-        learned = ({k: v for k, v in self._certified.items() if k not in snap["certified"]},
-                   {k: v for k, v in self._descended.items() if k not in snap["descended"]})
+        learned = dict(certified={k: v for k, v in self._certified.items() if k not in snap["certified"]},
+                       descended={k: v for k, v in self._descended.items() if k not in snap["descended"]},
+                       bases=self._bases())
         return alpha, found, self.n_lps() - lps, learned
 
-    def merge(self, states, lps, learned=({}, {})):
+    def merge(self, states, lps, learned=None):
         """What an evaluator found, taken here as if found here (in the order given:
         callers merge evaluations in task order): its certified states, its LP count and
-        what it learned (certifications and descents by flow pattern, for later snapshots)."""
+        what it learned (certifications and descents by flow pattern, and its final bases,
+        for later snapshots)."""
         for st in states:
             if self.on_state is not None:
                 self.on_state(st)
             self._record(st)
         self.lps_elsewhere += lps
-        for mine, theirs in zip((self._certified, self._descended), learned):
-            for key, value in theirs.items():
-                mine.setdefault(key, value)
+        if learned is not None:
+            for mine, theirs in ((self._certified, learned["certified"]), (self._descended, learned["descended"])):
+                for key, value in theirs.items():
+                    mine.setdefault(key, value)
+            self._carried_bases = learned["bases"]
 
     # ---------------------------------------------------------------------- stalls
     def rescue(self, x_assoc):

@@ -101,7 +101,7 @@ class _DaskPool:
     def __init__(self, structure, opt):
         from .executor import Executor, fingerprint, share
         self.executor = Executor(scheduler=opt.scheduler)
-        client = self.executor.client
+        client = self.client = self.executor.client  # the GA's Dask tasks use it too
         self.key = fingerprint((structure, opt.xi_factor, opt.solver))
         self.shared = share(client, (structure, opt.xi_factor, opt.solver), self.key)
         self.pool = client.get_executor(retries=1, pure=False)

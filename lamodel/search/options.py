@@ -28,7 +28,8 @@ class SolveOptions:
     ipopt_options: dict = field(default_factory=dict)
     solver: str = "lamodel_ipopt"  # or "ipopt": Pyomo's interface to an ipopt executable on PATH
     progress: bool = False
-    scheduler: str | None = None   # tcp://HOST:PORT of a dask.distributed cluster for the Ipopt starts
+    scheduler: str | None = None   # tcp://HOST:PORT of a dask.distributed cluster: the GA's pure
+    #                                evaluations and the Ipopt starts run there
 
     def __post_init__(self):
         self.validate()

@@ -101,9 +101,10 @@ def test_bad_study_input_is_one_line_exit_2(tmp_path, spec, args, text):
 
 
 def test_solve_on_a_dask_scheduler_gives_the_local_alpha(tmp_path, dask_cluster):
-    """The Ipopt starts of lamodel solve on the cluster: the summary is the local one."""
+    """The GA's evaluations and the Ipopt starts of lamodel solve on the cluster: the tables
+    are those of local workers (pure evaluations: the same LPs too)."""
     common = ("--starts", 1, "--no-plot", "--quiet")
-    local = lamodel("solve", INSTANCES / "wall33.json", "--out", tmp_path / "local", *common)
+    local = lamodel("solve", INSTANCES / "wall33.json", "--out", tmp_path / "local", *common, "--workers", 2)
     remote = lamodel("solve", INSTANCES / "wall33.json", "--out", tmp_path / "dask", *common,
                      "--scheduler", dask_cluster.scheduler_address)
     assert local.returncode == 0 and remote.returncode == 0, local.stderr + remote.stderr
