@@ -65,12 +65,20 @@ GAP_FORBID = 1e-6
 GAP_HOLD = 1e-6
 #: Flows below this fraction of the largest are zero (they cost compatibility <= this).
 FLOW_TOL = 1e-9
+#: A stalled mechanism whose flows on slack rows are all below this fraction of its largest
+#: is certified without them (its compatibility then errs by about that much, within
+#: RESIDUAL_TOLERANCE; the residual check decides).
+NEAR_FLOW = 1e-7
 #: Relative thresholds on slack used to call a row active when restricting mechanisms.
 ACTIVE_TOLS = (1e-9, 1e-7, 1e-5, 1e-3)
 #: Cap of a statics LP that may be hard (certification, hold and first gap steps): this many
 #: simplex iterations a row. Counted, not timed, so that a seed gives the same answer on any
 #: machine and with any number of workers (see GapSearch._cap).
 CERTIFY_CAP_ROWS = 2.0
+#: A capped solve also stops after CAP_BACKSTOP times the time its cap takes at the LP's
+#: mean warm speed (measured over CAP_BACKSTOP_SAMPLE iterations; CAP_BACKSTOP_MIN s at
+#: least): a backstop against pathological solves only (see _LP._backstop).
+CAP_BACKSTOP, CAP_BACKSTOP_MIN, CAP_BACKSTOP_SAMPLE = 2.0, 2.0, 200
 #: Pressure step: how many of the most pushing held rows are tried one by one.
 PRESSURE_SINGLE = 8
 #: While HiGHS runs (in a worker thread) the caller checks the deadline this often (s).
@@ -209,6 +217,7 @@ class _LP:
         self.n_solves = 0
         self.seconds = 0.0
         self.trace = None  # a print-like function to log every solve
+        self.warm_iterations, self.warm_seconds = 0, 0.0  # of warm solves (see _backstop)
         self.abandoned = False
 
     def _fresh(self):
@@ -328,6 +337,11 @@ class _LP:
         # HiGHS counts simplex_iteration_limit per run (its iteration count restarts at 0)
         h.setOptionValue("simplex_iteration_limit", highspy.kHighsIInf if cap is None else max(int(cap), 1))
         left = self.deadline.remaining()
+        backstop = self._backstop(cap)
+        if backstop < left:
+            left = backstop
+        else:
+            backstop = None
         # HiGHS compares time_limit with the run time accumulated over all runs of this object
         h.setOptionValue("time_limit", h.getRunTime() + float(max(left, 1e-3)) if left < INF else INF)
         t = time.perf_counter()
@@ -354,7 +368,7 @@ class _LP:
             # Warm re-solves: primal simplex (the dual was 10-100x slower on these LPs).
             h.setOptionValue("simplex_strategy", 1 if self.cold else 4)
             self._run()
-        self.cold = False
+        was_cold, self.cold = self.cold, False
         self.n_solves += 1
         dt = time.perf_counter() - t
         self.seconds += dt
@@ -364,8 +378,14 @@ class _LP:
             self.trace(f"    LP {self.name:9s} {dt:7.2f} s  {info.simplex_iteration_count:6d} it  "
                        f"{h.modelStatusToString(st)}")
         S = highspy.HighsModelStatus
+        iterations = h.getInfo().simplex_iteration_count
+        if not was_cold and iterations > 0 and st in (S.kOptimal, S.kInfeasible, S.kUnbounded, S.kIterationLimit):
+            self.warm_iterations += iterations
+            self.warm_seconds += dt
         if st in (S.kInterrupt, S.kTimeLimit) or self.deadline.expired():
-            raise Stopped()
+            if st != S.kTimeLimit or backstop is None or self.deadline.expired():
+                raise Stopped()
+            st = S.kIterationLimit  # the backstop: capped as if by iterations
         if st == S.kIterationLimit and cap is not None:
             h.setBasis(start)  # back to the basis the capped solve started from
             return "iteration limit"
@@ -390,6 +410,18 @@ class _LP:
             return {S.kOptimal: "optimal", S.kInfeasible: "infeasible", S.kUnbounded: "unbounded"}.get(
                 st, h.modelStatusToString(st))
         return h.modelStatusToString(st)
+
+    def _backstop(self, cap):
+        """Seconds after which a capped solve stops even below its iteration cap:
+        CAP_BACKSTOP times the cap at this LP's mean warm speed (at least CAP_BACKSTOP_MIN
+        s). Only a pathological solve meets it (HiGHS's dual simplex on near-singular
+        bases: 241 iterations in 25 s where 6,000 take 4 s), so the answer stays counted in
+        iterations in every ordinary case."""
+        if cap is None:
+            return INF
+        if self.warm_iterations < CAP_BACKSTOP_SAMPLE:
+            return CAP_BACKSTOP_MIN * CAP_BACKSTOP
+        return max(CAP_BACKSTOP_MIN, CAP_BACKSTOP * cap * self.warm_seconds / self.warm_iterations)
 
     def x(self) -> np.ndarray:
         return np.array(self.h.getSolution().col_value)
@@ -673,16 +705,22 @@ class GapSearch:
 
     def _certify(self, u, xi, flow, source):
         # Holding the rows by bounds makes the warm basis infeasible, and the primal phase 1
-        # took minutes at 2040 blocks. Instead: (1) min w^T lambda, the gap of this
-        # mechanism, from the current (feasible) basis; zero means the rows can be held;
-        # (2) then the held lambdas are already zero, so bounding them keeps the basis
-        # feasible, and min alpha is a warm primal solve. Each is capped (iterations,
-        # GapSearch._cap): a certification that hard is not worth it now.
+        # took minutes at 2040 blocks. Instead: (1) min of the sum of the lambdas the held
+        # rows set to zero, from the current (feasible) basis; zero means the rows can be
+        # held; (2) then those lambdas are zero, so bounding them keeps the basis feasible,
+        # and min alpha is a warm primal solve. Each is capped (iterations, GapSearch._cap):
+        # a certification that hard is not worth it now. Unit weights, not the gap's
+        # virtual-work weights w: a row flowing 1e-9 of the largest flow weighs its lambdas
+        # so little that w^T lambda ~ 1e-10 left them at 0.1 (1020 blocks), and the held LP
+        # then started infeasible (primal phase 1 gave up, HiGHS's dual simplex ran on
+        # singular bases for minutes).
         cap = self._cap()
-        status, x = self.statics(cost_lam=self.gap_weights(xi), alpha_cost=0.0, cap=cap)
+        held_lams = np.zeros(self.nl)
+        held_lams[self.held_lams[flow].ravel()] = 1.0
+        status, x = self.statics(cost_lam=held_lams, alpha_cost=0.0, cap=cap)
         if status == "iteration limit":
             return _CAPPED
-        if status != "optimal" or self.gap_weights(xi) @ x[:self.nl] > LP_TOLERANCE * max(1.0, x[-1]):
+        if status != "optimal" or (held_lams * x[:self.nl]).max() > LP_TOLERANCE * max(1.0, np.abs(x).max()):
             return None
         status, x = self.statics(held=flow, cap=cap)
         if status == "iteration limit":
@@ -874,8 +912,19 @@ class GapSearch:
                             slack_flow = (xi > 0) & ~tight
                     step_gap = float(self.gap_weights(xi) @ x[:self.nl])
                     if self.verbose > 1:
+                        rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
                         print(f"{self.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
-                              f"{step_gap:.2e} slack flows {int(slack_flow.sum())}", flush=True)
+                              f"{step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})", flush=True)
+                    if slack_flow.any() and xi[slack_flow].max() <= NEAR_FLOW * xi.max():
+                        # A stall whose flows on slack rows are below the residual tolerance
+                        # (1020 blocks: 4e-8..6e-8 of the largest, gap 4e-9, and no statics
+                        # holds them): the mechanism without them, certified as any other
+                        # (held rows, min alpha, every residual <= RESIDUAL_TOLERANCE).
+                        st = self.certify(u, np.where(tight, xi, 0.0), source + "-near")
+                        if st is not None:
+                            st = self.descend(st)
+                            if best is None or st.alpha < best.alpha:
+                                best = st
                     # With flows left on slack rows the certification's first LP (min gap of
                     # this mechanism, capped) decides whether a statics can hold them all.
                     if step_gap <= GAP_CERTIFY * max(1.0, alpha):
@@ -931,9 +980,15 @@ class GapSearch:
         # (12,000 iterations), the time of many cheaper perturbations
         status, x = self.statics(cost_lam=RHO_MAIN[0] * self.gap_weights(xi), cap=self._cap())
         if status == "optimal":
-            st, _ = self.alternate(x, source=source)
+            st, x = self.alternate(x, source=source)
             if st is not None and (best is None or st.alpha < best.alpha):
                 best = st
+            if best is None or x[-1] < best.alpha - 1e-9 * max(1.0, best.alpha):
+                # the alternation stalled below what it certified (flows left on slack
+                # rows): mechanisms on the rows this statics nearly holds
+                st = self.certify_near(x, source + "-near")
+                if st is not None and (best is None or st.alpha < best.alpha):
+                    best = st
         return best
 
     def reference_N(self):
@@ -1105,10 +1160,16 @@ class GapSearch:
         cheap after a certificate, where a cold start costs as much as the associative LP.
         """
         t = time.perf_counter()
+        before = None if self.stat.cold else self.stat.h.getBasis()
         try:
             status, x = self.statics()
             return status == "optimal" and x[-1] <= 1e-9
         finally:
+            if before is not None and not self.stat.abandoned:
+                # Back to the basis near the collapse states: from the alpha = 0 vertex
+                # every later certification LP of a 1020-block wall hit its iteration cap
+                # (6120 iterations, 4.4 s each) and the exploration certified nothing.
+                self.stat.h.setBasis(before)
             self._phase("stability", t)
 
     def run(self, explore=True, patience=None) -> SearchResult:

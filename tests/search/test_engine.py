@@ -284,3 +284,46 @@ def test_medium_wall_certified_and_checked():
     assert res.status == "certified"
     assert res.alpha <= res.associative
     assert collapse_violation(s, res.best) <= 1e-7
+
+
+# ------------------------------------------------------------ capped solves
+def _bond(courses, width=25):
+    rows = [[0.5] + [1] * (width - 1) + [0.5] if r % 2 == 0 else [1] * width for r in range(courses)]
+    return structure_from_json(running_bond_wall(rows, name=f"bond{courses}"))
+
+
+def test_a_capped_solve_that_crawls_stops_at_its_backstop_as_if_capped():
+    """HiGHS's dual simplex on near-singular bases once took 25 s for 241 iterations of a
+    capped certification LP (1020 blocks): a capped solve also stops after a time backstop,
+    and that counts as its cap (back at its starting basis, the search goes on), not as
+    the deadline."""
+    import lamodel.search.engine as engine_module
+    e = GapSearch(_bond(10), seed=0)
+    assert e.stat.n > engine_module.INLINE_COLUMNS  # solved in a worker thread
+    e.start()  # max alpha: min alpha from here takes many iterations
+    before = e.stat.portable_basis()
+    e.stat.warm_iterations, e.stat.warm_seconds = 10 ** 9, 1e-12  # "iterations are fast"
+    old = engine_module.CAP_BACKSTOP_MIN
+    engine_module.CAP_BACKSTOP_MIN = 0.0  # so the backstop is HiGHS's least time limit, 1 ms
+    try:
+        status, x = e.statics(cap=10 ** 6)
+    finally:
+        engine_module.CAP_BACKSTOP_MIN = old
+    assert status == "iteration limit" and x is None
+    assert all(np.array_equal(a, b) for a, b in zip(before, e.stat.portable_basis()))
+    assert e.statics()[0] == "optimal" and not e.deadline.expired()
+
+
+def test_certification_needs_the_held_lambdas_at_zero_not_a_small_gap():
+    """A mechanism flowing on rows no statics can hold all at once is refused, and one
+    that the certification holds gives a state whose held lambdas are exactly zero."""
+    e = GapSearch(structure_from_json(seed_wall(6)), seed=0)
+    _, _, x0 = e.start()
+    best, _ = e.alternate(x0)
+    assert best is not None
+    lam = best.lam[:e.nl]
+    assert np.all(lam[e.held_lams[best.flow].ravel()] == 0.0)
+    # every row of the associative statics' rows allowed to flow at once: not holdable
+    status, _, _, u, xi = e.mechanism(-e.mu * e.N_of(x0))
+    flow_all = np.ones_like(xi, bool)
+    assert e._certify(u, np.where(flow_all, np.maximum(xi, 1e-3 * xi.max()), 0.0), flow_all, "t") is None
