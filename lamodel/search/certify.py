@@ -40,20 +40,33 @@ def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
     normalisation fbar^T u = 1, complementarity (flow only on rows held at equality) and
     the virtual-work identity alpha = alpha_K (eq. 5).
     """
-    F = force_scale(lps)
     x = np.concatenate([N, V, M, [alpha]])
     s = x[:-1]
-    U = max(np.abs(u).max(), np.abs(xi).max(), 1e-300)
-    eq = lps.A @ s + lps.f0 + alpha * lps.fbar
-    slack = lps.slack(x)
-    compat = -(lps.A.T @ u) - lps.G.T @ xi
+    nc = len(N)
+    # Every measure has one dimension, so that it has the same value in any units (a
+    # moment against a force, or a rotation against a displacement, is not a ratio):
+    # moments are made forces, and rotations lengths, by the structure's size.
+    Ls = lps.structure.size()
+
+    def per_block(v, scale):  # (x, y, moment or rotation) per block
+        return np.concatenate([v[0::3], v[1::3], scale * v[2::3]])
+
+    F = max(np.abs(per_block(lps.f0, 1 / Ls)).max(), np.abs(per_block(lps.fbar, 1 / Ls)).max(), 1e-300)
+    u_l = per_block(u, Ls)
+    xi_l = np.concatenate([xi[:2 * nc], Ls * xi[2 * nc:]])       # slips, hinge rotations
+    U = max(np.abs(u_l).max(), np.abs(xi_l).max(), 1e-300)
+    eq = per_block(lps.A @ s + lps.f0 + alpha * lps.fbar, 1 / Ls)
+    slack = lps.slack(x)                                          # slides: forces, hinges: moments
+    slack_f = np.concatenate([slack[:2 * nc], slack[2 * nc:] / Ls])
+    compat = -(lps.A.T @ u) - lps.G.T @ xi                         # opening, slip, rotation
+    compat = np.concatenate([compat[:2 * nc], Ls * compat[2 * nc:]])
     work_scale = max(F * U, 1e-300)
     return {
         "equilibrium": float(np.abs(eq).max() / F),
-        "yield": float(max(-slack.min(), 0.0) / F),
+        "yield": float(max(-slack_f.min(), 0.0) / F),
         "compatibility": float(np.abs(compat).max() / U),
         "normalisation": float(abs(lps.fbar @ u - 1.0)),
-        "nonnegative_flow": float(max(-xi.min(), 0.0) / U),
+        "nonnegative_flow": float(max(-xi_l.min(), 0.0) / U),
         "complementarity": float(np.abs(xi * slack).max() / work_scale),
         "virtual_work": float(abs(lps.kinematic_multiplier(u, xi, N) - alpha) / max(abs(alpha), 1.0)),
     }

@@ -165,7 +165,8 @@ def _scaled(structure: Structure, F: float, L: float) -> Structure:
                      dead=structure.dead / F, live=structure.live / F, supports=structure.supports,
                      contacts=structure.contacts, block_a=structure.block_a, block_b=structure.block_b,
                      centre=structure.centre / L, normal=structure.normal, d=structure.d / L, mu=structure.mu,
-                     dead_m=structure.dead_m / (F * L), live_m=structure.live_m / (F * L))
+                     dead_m=structure.dead_m / (F * L), live_m=structure.live_m / (F * L),
+                     polygons={k: v / L for k, v in structure.polygons.items()})  # size() 1, as L
 
 
 class Checker:
@@ -761,6 +762,10 @@ class GapSearch:
             return
         user = self.to_user(state)
         if max(user.residual.values()) > RESIDUAL_TOLERANCE:
+            if self.verbose > 1:
+                bad = {k: f"{v:.1e}" for k, v in user.residual.items() if v > RESIDUAL_TOLERANCE}
+                print(f"{self.elapsed():8.2f}   rejected alpha {a:.7f} in the user's units: {bad} "
+                      f"(scaled: {max(state.residual.values()):.1e})", flush=True)
             return
         self.best, self.best_user = state, user
         t = self.elapsed()

@@ -7,6 +7,8 @@ image with the load mirrored) and solves it through :func:`lamodel.search.driver
 alpha must agree to 1e-6 relative and the reported state must be a collapse state of the
 transformed structure in its own units (checked by the independent oracle).
 """
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -99,3 +101,30 @@ def test_arch_alpha_is_frame_free(case):
     base = solve(structure_from_json(spec), OPTIONS)
     assert base.certified
     check_frame_free(spec, base.best.alpha, case, perm_seed=5)
+
+
+@pytest.mark.parametrize("case", ["length x1e3", "length x1e-3", "all at once"])
+def test_residuals_of_an_inexact_state_are_the_same_in_any_units(case):
+    """The residual check is what certifies: a mechanism that is compatible only to 1e-6
+    must measure 1e-6 whatever the units (the compatibility of rotations against
+    displacements in metres or millimetres once differed by the structure's size, 174 on a
+    2040-block wall, and refused there a state the non-dimensional check passed)."""
+    from lamodel.search.engine import GapSearch
+    kw = dict(CASES[case])
+    if kw.get("perm") == "random":
+        kw["perm"] = np.random.default_rng(0).permutation(len(seed_wall(6)["blocks"]))
+    e = GapSearch(structure_from_json(transform_spec(seed_wall(6), **kw)), seed=0)
+    e.run(explore=False)
+    st = e.best
+    nc = e.nc
+    hinge = 2 * nc + int(np.argmax(st.xi[2 * nc:]))
+    slide = int(np.argmax(st.xi[:2 * nc]))
+    for row in (hinge, slide):  # one rotation-type and one length-type flow made inexact
+        xi = st.xi.copy()
+        xi[row] *= 1.0 + 1e-5
+        inexact = dataclasses.replace(st, xi=xi)
+        scaled = e.check_scaled.residuals(inexact)
+        user = e.to_user(inexact).residual
+        assert scaled["compatibility"] > 1e-8  # the change is seen...
+        for key in scaled:                      # ...and measures the same in both frames
+            assert user[key] == pytest.approx(scaled[key], rel=1e-3, abs=1e-12), (row, key)
