@@ -131,6 +131,10 @@ def test_load_cases_give_one_alpha_each_and_the_governing_one(tmp_path):
     summary = pd.read_csv(out / "summary.csv")
     assert summary["case"][0] == "wind_top" and summary["alpha"][0] == pytest.approx(0.625)
     assert (summary["length_unit"][0], summary["force_unit"][0]) == ("m", "kN")
+    # the reported state's largest residual and which condition it is
+    assert 0.0 <= summary["residual"][0] <= 1e-7
+    assert summary["residual_condition"][0] in ("equilibrium", "yield", "compatibility", "normalisation",
+                                                "nonnegative_flow", "complementarity", "virtual_work")
     assert check_folder(out) == pytest.approx(0.625)   # with the moments of blocks.csv
     assert "wind_low" in r.stdout and "hinge at the right end of joint ground|b1" in r.stdout
 

@@ -17,8 +17,10 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
 
     Beyond the contract: blocks.csv has ``dead_m``, ``live_m`` (moments of the loads about
     the centroid, e.g. of point loads, so that an external checker can rebuild eq. 1);
-    summary.csv has ``length_unit``, ``force_unit`` ("-" when the input gave none) and the
-    columns of ``extra_summary`` (e.g. the governing load case)."""
+    summary.csv has ``length_unit``, ``force_unit`` ("-" when the input gave none),
+    ``residual`` and ``residual_condition`` (the largest relative violation of the
+    conditions of a collapse state by the reported one, at most 1e-7, and which condition)
+    and the columns of ``extra_summary`` (e.g. the governing load case)."""
     s, best = outcome.structure, outcome.best
     nb, nc = s.n_blocks, s.n_contacts
     if best is not None:
@@ -53,6 +55,17 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
         "wall_time_s": outcome.wall_time_s,
         "status": outcome.status, "message": outcome.message, "seed": outcome.seed,
         "length_unit": s.units.get("length", "-"), "force_unit": s.units.get("force", "-"),
+        **_residual_columns(best),
         **(extra_summary or {}),
     }
     return Results.from_frames(summary, blocks, contacts, runs)
+
+
+def _residual_columns(best) -> dict:
+    """The reported state's largest residual (see lamodel.search.certify.residuals): about
+    1e-12 for an exact certificate, up to 1e-7 for one certified without flows below that
+    fraction (README, "What it does")."""
+    if best is None or not best.residual:
+        return {"residual": np.nan, "residual_condition": ""}
+    worst = max(best.residual, key=best.residual.get)
+    return {"residual": float(best.residual[worst]) + 0.0, "residual_condition": worst}
