@@ -191,9 +191,9 @@ def _search(engine, opt, progress, client=None):
         if kind not in ("ok", "unbounded"):
             return "not_certified", f"the associative LP failed ({kind})", alpha_assoc
         progress.phase("first certificate")
-        engine.alternate(x0, source="gap")
+        _, x = engine.alternate(x0, source="gap")
         if engine.best is None:
-            engine.rescue(x0)
+            engine.rescue(x0, x)
         if parallel(opt):
             # the GA's pure evaluations start from the first certificate's bases: the
             # stability LP's (alpha = 0) is far from every collapse state (bond10: 1400

@@ -58,6 +58,8 @@ GAP_CERTIFY = 1e-6
 #: rho ladders of the gap step: the main one, and the low one tried when the main one stalls.
 RHO_MAIN = (1e3, 1e4)
 RHO_LOW = (2.0, 10.0, 100.0, 1e3)
+#: ... and the one that goes on from where the main one stalled.
+RHO_HIGH = (1e5, 1e6, 1e7)
 #: Below this gap (times max(1, alpha)) a mechanism step forbids flow on slack rows.
 GAP_FORBID = 1e-6
 #: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold
@@ -875,6 +877,7 @@ class GapSearch:
         """
         t = time.perf_counter()
         best = None
+        found = []  # certified states of the near certifications (see _near)
         last_cert_key = None
         try:
             for rho in rhos:
@@ -891,6 +894,7 @@ class GapSearch:
                     gap = float(self.gap_weights(xi) @ x[:self.nl])
                     tight = self.active_rows(x, ACTIVE_TOLS[0])
                     slack_flow = (xi > 0) & ~tight
+                    self._near(u, xi, tight, slack_flow, source, found)
                     if slack_flow.any() and gap <= GAP_HOLD * max(1.0, alpha) and not forbid_slack:
                         # Hold step. Near convergence the least-alpha_K mechanism flows, a
                         # little (1e-8..3e-7 of its largest flow at 1020 blocks), on a few rows
@@ -920,16 +924,7 @@ class GapSearch:
                         rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
                         print(f"{self.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
                               f"{step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})", flush=True)
-                    if slack_flow.any() and xi[slack_flow].max() <= NEAR_FLOW * xi.max():
-                        # A stall whose flows on slack rows are below the residual tolerance
-                        # (1020 blocks: 4e-8..6e-8 of the largest, gap 4e-9, and no statics
-                        # holds them): the mechanism without them, certified as any other
-                        # (held rows, min alpha, every residual <= RESIDUAL_TOLERANCE).
-                        st = self.certify(u, np.where(tight, xi, 0.0), source + "-near")
-                        if st is not None:
-                            st = self.descend(st)
-                            if best is None or st.alpha < best.alpha:
-                                best = st
+                    self._near(u, xi, tight, slack_flow, source, found)
                     # With flows left on slack rows the certification's first LP (min gap of
                     # this mechanism, capped) decides whether a statics can hold them all.
                     if step_gap <= GAP_CERTIFY * max(1.0, alpha):
@@ -951,7 +946,21 @@ class GapSearch:
                     x = xn
         finally:
             self._phase("alternate", t)
+        for st in found:
+            if best is None or st.alpha < best.alpha:
+                best = st
         return best, x
+
+    def _near(self, u, xi, tight, slack_flow, source, found):
+        """A stall whose flows on slack rows are all below NEAR_FLOW of the largest (1020
+        blocks: 4e-8..6e-8, gap 4e-9, and no statics holds them): the mechanism without
+        them, certified as any other (held rows, min alpha, every residual within
+        RESIDUAL_TOLERANCE) and descended; appended to ``found``."""
+        if not slack_flow.any() or xi[slack_flow].max() > NEAR_FLOW * xi.max():
+            return
+        st = self.certify(u, np.where(tight, xi, 0.0), source + "-near")
+        if st is not None:
+            found.append(self.descend(st))
 
     # --------------------------------------------------------------- exploration
     def chain(self, c, steps=6, source="chain"):
@@ -1095,12 +1104,17 @@ class GapSearch:
             self._carried_bases = learned["bases"]
 
     # ---------------------------------------------------------------------- stalls
-    def rescue(self, x_assoc):
-        """When the main ladder certifies nothing: forbid flow on slack rows, a low rho
-        ladder from the associative state, certification from near-active rows."""
+    def rescue(self, x_assoc, x_stall=None):
+        """When the main ladder certifies nothing: higher rho from where it stalled (the
+        gap, and the flows on slack rows, shrink with rho: 2040 blocks), then from the
+        associative state with flow on slack rows forbidden, and a low rho ladder; each
+        followed by certification from near-active rows."""
         best = None
-        for kw in (dict(rhos=RHO_MAIN, forbid_slack=True), dict(rhos=RHO_LOW)):
-            st, x = self.alternate(x_assoc, source="rescue", **kw)
+        starts = [(x_assoc, dict(rhos=RHO_MAIN, forbid_slack=True)), (x_assoc, dict(rhos=RHO_LOW))]
+        if x_stall is not None:
+            starts.insert(0, (x_stall, dict(rhos=RHO_HIGH)))
+        for x0, kw in starts:
+            st, x = self.alternate(x0, source="rescue", **kw)
             if st is not None and (best is None or st.alpha < best.alpha):
                 best = st
             st = self.certify_near(x, "rescue-near")
@@ -1198,7 +1212,7 @@ class GapSearch:
             t = time.perf_counter()
             _, x = self.alternate(x0, source="gap")
             if self.best is None:
-                self.rescue(x0)
+                self.rescue(x0, x)
             self._phase("first", t)
             self.checked_stable = self.stable()
             if not self.checked_stable:
