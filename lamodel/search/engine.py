@@ -592,8 +592,10 @@ class GapSearch:
         # Restricted mechanisms (flow allowed on some rows only) get their own copy: switching
         # one LP between the two kinds cost 10-17 s a re-solve at 2040 blocks.
         self.coh_r = _LP(Ac, -self.f0, cost, clo, chi, self.deadline, "cohesive-r")
+        self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}  # (snapshots name them)
         if verbose > 1:
-            self.stat.trace = self.coh.trace = self.coh_r.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
+            for lp in self.lps.values():
+                lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
         self.phases = {}
         self.best: CollapseState | None = None      # scaled units
         self.best_user: CollapseState | None = None
@@ -611,7 +613,7 @@ class GapSearch:
         return time.perf_counter() - self.t0
 
     def n_lps(self):
-        return self.stat.n_solves + self.coh.n_solves + self.coh_r.n_solves + self.lps_elsewhere
+        return sum(lp.n_solves for lp in self.lps.values()) + self.lps_elsewhere
 
     # ------------------------------------------------------------------- the pieces
     def forces(self, lam):
@@ -629,7 +631,7 @@ class GapSearch:
             cost[:self.nl] = cost_lam
         hi = np.full(self.nl + 1, INF)
         if held is not None and held.any():
-            hi[self.held_lams[held].ravel()] = 0.0
+            hi[:self.nl][self.zeroed(held)] = 0.0
         self.stat.set_cost(cost)
         self.stat.set_bounds(np.zeros(self.nl + 1), hi)
         status = self.stat.solve(cap)
@@ -637,6 +639,12 @@ class GapSearch:
             return status, None
         x = np.maximum(self.stat.x(), 0.0)
         return status, x
+
+    def zeroed(self, held):
+        """The lambdas (bool, 4 nc) that holding the yield rows ``held`` sets to zero."""
+        out = np.zeros(self.nl, bool)
+        out[self.held_lams[held].ravel()] = True
+        return out
 
     def mechanism(self, c, allowed=None):
         """The cohesive LP for cohesions c (>= 0), flow allowed on rows ``allowed`` only.
@@ -718,12 +726,11 @@ class GapSearch:
         # then started infeasible (primal phase 1 gave up, HiGHS's dual simplex ran on
         # singular bases for minutes).
         cap = self._cap()
-        held_lams = np.zeros(self.nl)
-        held_lams[self.held_lams[flow].ravel()] = 1.0
-        status, x = self.statics(cost_lam=held_lams, alpha_cost=0.0, cap=cap)
+        zeroed = self.zeroed(flow)
+        status, x = self.statics(cost_lam=zeroed.astype(float), alpha_cost=0.0, cap=cap)
         if status == "iteration limit":
             return _CAPPED
-        if status != "optimal" or (held_lams * x[:self.nl]).max() > LP_TOLERANCE * max(1.0, np.abs(x).max()):
+        if status != "optimal" or x[:self.nl][zeroed].max() > LP_TOLERANCE * max(1.0, np.abs(x).max()):
             return None
         status, x = self.statics(held=flow, cap=cap)
         if status == "iteration limit":
@@ -848,9 +855,7 @@ class GapSearch:
             return None
         _, z = self.stat.exact_duals()
         zl = z[:self.nl]
-        held_lams = np.zeros(self.nl, bool)
-        held_lams[self.held_lams[state.flow].ravel()] = True
-        push = np.where(held_lams & (zl < -1e-12), -zl, 0.0)
+        push = np.where(self.zeroed(state.flow) & (zl < -1e-12), -zl, 0.0)
         if not push.any():
             return None
         row_push = self.row_of_pair @ push  # per yield row: how much its lambdas push
@@ -919,12 +924,12 @@ class GapSearch:
                         if st2 == "optimal":
                             u, xi = u2, xi2
                             slack_flow = (xi > 0) & ~tight
+                            self._near(u, xi, tight, slack_flow, source, found)
                     step_gap = float(self.gap_weights(xi) @ x[:self.nl])
                     if self.verbose > 1:
                         rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
                         print(f"{self.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
                               f"{step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})", flush=True)
-                    self._near(u, xi, tight, slack_flow, source, found)
                     # With flows left on slack rows the certification's first LP (min gap of
                     # this mechanism, capped) decides whether a statics can hold them all.
                     if step_gap <= GAP_CERTIFY * max(1.0, alpha):
@@ -1046,8 +1051,7 @@ class GapSearch:
                     certified=dict(self._certified), descended=dict(self._descended))
 
     def _bases(self):
-        return {name: lp.portable_basis() for name, lp in (("stat", self.stat), ("coh", self.coh),
-                                                           ("coh_r", self.coh_r))}
+        return {name: lp.portable_basis() for name, lp in self.lps.items()}
 
     def carry_bases(self):
         """The LPs' bases now are those the next snapshot starts from (until an evaluation
@@ -1062,7 +1066,7 @@ class GapSearch:
     def use_deadline(self, deadline: Deadline):
         """From now on this engine and its LPs stop at ``deadline``."""
         self.deadline = deadline
-        for lp in (self.stat, self.coh, self.coh_r):
+        for lp in self.lps.values():
             lp.deadline = deadline
 
     def evaluate_pure(self, snap: dict, genome, chain_steps=3):
@@ -1073,7 +1077,7 @@ class GapSearch:
         cap is counted in iterations). Returns (alpha, certified states in the order found
         (scaled units), LP solves, what it learned: its additions to the caches and the
         bases it ended with)."""
-        for name, lp in (("stat", self.stat), ("coh", self.coh), ("coh_r", self.coh_r)):
+        for name, lp in self.lps.items():
             lp.restart(snap["bases"][name])
         self._certified, self._descended = dict(snap["certified"]), dict(snap["descended"])
         self.best = self.best_user = self.first = None
