@@ -38,7 +38,7 @@ import numpy as np
 from ..structure import Structure
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .ipopt import EPSILON_LADDER, start_pool
-from .generations import Generations, parallel
+from .generations import Generations
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
 from .state import CollapseState, Run
 
@@ -191,14 +191,9 @@ def _search(engine, opt, progress, client=None):
         if kind not in ("ok", "unbounded"):
             return "not_certified", f"the associative LP failed ({kind})", alpha_assoc
         progress.phase("first certificate")
-        _, x = engine.alternate(x0, source="gap")
-        if engine.best is None:
-            engine.rescue(x0, x)
-        if parallel(opt):
-            # the GA's pure evaluations start from the first certificate's bases: the
-            # stability LP's (alpha = 0) is far from every collapse state (bond10: 1400
-            # simplex iterations to the first statics of an evaluation, against 60)
-            engine.carry_bases()
+        engine.first_certificate(x0)
+        # (stable() gives the statics LP back its basis near the collapse states: the GA's
+        # evaluations, pure ones included, start from there, not from alpha = 0)
         engine.checked_stable = engine.stable()
         if not engine.checked_stable:
             engine.best = engine.best_user = None

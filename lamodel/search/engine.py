@@ -1053,11 +1053,6 @@ class GapSearch:
     def _bases(self):
         return {name: lp.portable_basis() for name, lp in self.lps.items()}
 
-    def carry_bases(self):
-        """The LPs' bases now are those the next snapshot starts from (until an evaluation
-        is merged)."""
-        self._carried_bases = self._bases()
-
     def evaluator(self) -> "GapSearch":
         """An engine of its own (HiGHS objects, caches) on the same structure and deadline,
         for evaluations in another thread (HiGHS releases the GIL while it solves)."""
@@ -1108,6 +1103,13 @@ class GapSearch:
             self._carried_bases = learned["bases"]
 
     # ---------------------------------------------------------------------- stalls
+    def first_certificate(self, x_assoc):
+        """The gap alternation from the associative statics and, if it certifies nothing,
+        the rescue from where it stalled."""
+        _, x = self.alternate(x_assoc, source="gap")
+        if self.best is None:
+            self.rescue(x_assoc, x)
+
     def rescue(self, x_assoc, x_stall=None):
         """When the main ladder certifies nothing: higher rho from where it stalled (the
         gap, and the flows on slack rows, shrink with rho: 2040 blocks), then from the
@@ -1214,9 +1216,7 @@ class GapSearch:
                 return self._finish(res, False)
             self._t_assoc = self.elapsed()
             t = time.perf_counter()
-            _, x = self.alternate(x0, source="gap")
-            if self.best is None:
-                self.rescue(x0, x)
+            self.first_certificate(x0)
             self._phase("first", t)
             self.checked_stable = self.stable()
             if not self.checked_stable:
