@@ -45,6 +45,7 @@ from scipy.sparse.linalg import splu
 from ..formulation.matrices import equilibrium_matrix, flow_matrix, load_vectors, yield_matrix
 from ..structure import Structure
 from .certify import RESIDUAL_TOLERANCE, residuals
+from .lp import QuietHighs
 from .options import Deadline, Stopped, catch_sigint, restore_sigint
 from .state import CollapseState
 
@@ -225,8 +226,7 @@ class _LP:
 
     def _fresh(self):
         """A new HiGHS object holding this LP (current costs and bounds), cold."""
-        h = self.h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
+        h = self.h = QuietHighs()
         h.setOptionValue("primal_feasibility_tolerance", LP_TOLERANCE)
         h.setOptionValue("dual_feasibility_tolerance", LP_TOLERANCE)
         lp = highspy.HighsLp()

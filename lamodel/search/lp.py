@@ -35,6 +35,20 @@ TIGHT_TOLERANCE = 1e-9
 IPM_COLUMNS = 3000
 
 
+class QuietHighs(highspy.Highs):
+    """highspy's Highs that prints nothing. highspy 1.16 logs its banner to stdout when
+    its constructor enables the Python callbacks, before an option can be set (it broke
+    ``--quiet`` and any stdout a user parses); the option goes first here."""
+
+    def enableCallbacks(self):
+        self.setOptionValue("output_flag", False)
+        super().enableCallbacks()
+
+    def __init__(self):
+        super().__init__()
+        self.setOptionValue("output_flag", False)  # highspy versions without enableCallbacks
+
+
 @dataclass
 class LPResult:
     status: str                    # 'optimal', 'infeasible', 'unbounded' or HiGHS's word
@@ -53,8 +67,7 @@ class _HighsLP:
 
     def __init__(self, cost, A, row_lo, row_hi, col_lo, col_hi, tolerance=None):
         A = sp.csc_matrix(A)
-        self.h = highspy.Highs()
-        self.h.setOptionValue("output_flag", False)
+        self.h = QuietHighs()
         if tolerance is not None:
             for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
                 self.h.setOptionValue(option, float(tolerance))
