@@ -9,6 +9,9 @@ become points of eq. (5), polished by Ipopt — on the LP engine of :mod:`.engin
    step, statics step on ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be
    held; the certified state is descended (:meth:`GapSearch.alternate`, ``rescue``).
 3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
+   Then a second start from the associative statics: the same alternation with the
+   penalty rho raised from 10 (:meth:`GapSearch.continuation`), which reaches other
+   collapse states than the first (1020 blocks: 0.444924 against 0.445755).
 4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
    best certified state. Fitness and local search: :meth:`GapSearch.evaluate` (the
    cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each
@@ -198,10 +201,16 @@ def _search(engine, opt, progress, client=None):
         if not engine.checked_stable:
             engine.best = engine.best_user = None
             return "unstable", _unstable_message(engine), alpha_assoc
-        # the GA also runs when the first phase stalled: its perturbations of the
+        lps_first = engine.n_lps()  # the work of the first certificate (the GA's stopping rule)
+        if x0 is not None and np.isfinite(alpha_assoc):
+            progress.phase("continuation")
+            from .engine import RHO_CONTS
+            for rhos in RHO_CONTS:
+                engine.continuation(x0, rhos)
+        # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")
-        _genetic_search(engine, opt, progress, client)
+        _genetic_search(engine, opt, progress, client, lps_first)
     except Stopped:
         if engine.best is None:
             return _nothing_certified(engine, alpha_assoc, stopped=True)
@@ -210,13 +219,13 @@ def _search(engine, opt, progress, client=None):
     return "certified", "", alpha_assoc
 
 
-def _genetic_search(engine, opt, progress, client=None):
+def _genetic_search(engine, opt, progress, client=None, lps_first=None):
     """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc); with
     ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
     in parallel (:mod:`.generations`; ``client``: a Dask connection to use)."""
     from .ga import genetic_search
     nc = engine.nc
-    lps_first = max(engine.n_lps(), 1)  # the work the first certificate took
+    lps_first = max(engine.n_lps() if lps_first is None else lps_first, 1)  # the first certificate's work
     state = {"evals": 0, "since": 0, "best": _alpha(engine), "lps": engine.n_lps()}
 
     def stalled():
