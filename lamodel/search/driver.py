@@ -204,9 +204,7 @@ def _search(engine, opt, progress, client=None):
         lps_first = engine.n_lps()  # the work of the first certificate (the GA's stopping rule)
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
-            from .engine import RHO_CONTS
-            for rhos in RHO_CONTS:
-                engine.continuation(x0, rhos)
+            engine.continuations(x0)
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")

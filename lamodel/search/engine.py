@@ -1117,6 +1117,21 @@ class GapSearch:
         if self.best is None:
             self.rescue(x_assoc, x)
 
+    def continuations(self, x_assoc):
+        """The continuation starts (one per ladder of RHO_CONTS, in turn); then the LPs get
+        back the bases they had before them (a cold LP is made cold again), so that what
+        follows (the GA, serial or pure evaluations from a snapshot) starts where it would
+        without them: measured, a 28-block wall's parallel GA certified nothing from the
+        bases the continuation left."""
+        saved = {name: None if lp.cold else lp.h.getBasis() for name, lp in self.lps.items()}
+        for rhos in RHO_CONTS:
+            self.continuation(x_assoc, rhos)
+        for name, lp in self.lps.items():
+            if saved[name] is None:
+                lp.restart(None)
+            else:
+                lp.h.setBasis(saved[name])
+
     def continuation(self, x_assoc, rhos=RHO_CONTS[0]):
         """A start from the associative statics on the penalty ladder ``rhos``: a
         low rho lets alpha fall far before the gap is squeezed out, into other collapse
@@ -1255,8 +1270,7 @@ class GapSearch:
                 return self._finish(res, False)
             if explore:
                 if x0 is not None and np.isfinite(a_assoc):
-                    for rhos in RHO_CONTS:
-                        self.continuation(x0, rhos)
+                    self.continuations(x0)
                 self.explore(patience)
         except Stopped:
             interrupted = True

@@ -327,3 +327,28 @@ def test_certification_needs_the_held_lambdas_at_zero_not_a_small_gap():
     status, _, _, u, xi = e.mechanism(-e.mu * e.N_of(x0))
     flow_all = np.ones_like(xi, bool)
     assert e._certify(u, np.where(flow_all, np.maximum(xi, 1e-3 * xi.max()), 0.0), flow_all, "t") is None
+
+
+def test_continuation_starts_certify_and_give_the_lps_their_bases_back():
+    """The continuation starts (rho raised from a low value) leave every LP with the basis
+    it had (the GA after them starts where it would without them), and return certified
+    states that pass the independent check, never above the associative bound."""
+    s = _bond(6, width=8)
+    e = GapSearch(s, seed=0)
+    _, a_assoc, x0 = e.start()
+    e.first_certificate(x0)
+    e.stable()
+    before = {name: lp.portable_basis() for name, lp in e.lps.items()}
+    e.continuations(x0)
+    for name, lp in e.lps.items():
+        after = lp.portable_basis()
+        if before[name] is None:
+            assert after is None
+        else:
+            assert all(np.array_equal(b, a) for b, a in zip(before[name], after))
+    found = [e.continuation(x0, rhos) for rhos in ((10.0, 100.0, 1e3, 1e4), (30.0, 300.0, 1e3, 1e4))]
+    assert any(st is not None for st in found)
+    for st in found:
+        if st is not None:
+            assert st.alpha <= a_assoc + 1e-9
+            assert collapse_violation(s, e.to_user(st)) <= 1e-7
