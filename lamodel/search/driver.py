@@ -9,9 +9,9 @@ become points of eq. (5), polished by Ipopt — on the LP engine of :mod:`.engin
    step, statics step on ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be
    held; the certified state is descended (:meth:`GapSearch.alternate`, ``rescue``).
 3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
-   Then a second start from the associative statics: the same alternation with the
-   penalty rho raised from 10 (:meth:`GapSearch.continuation`), which reaches other
-   collapse states than the first (1020 blocks: 0.444924 against 0.445755).
+   Then two more starts from the associative statics: the same alternation with the
+   penalty rho raised from 10 and from 30 (:meth:`GapSearch.continuations`), which reach
+   other collapse states than the first (1020 blocks: 0.444923 against 0.445755).
 4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
    best certified state. Fitness and local search: :meth:`GapSearch.evaluate` (the
    cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each

@@ -25,7 +25,7 @@ Every step is a linear program solved by HiGHS and warm-started:
   effect within WAIT_SLICE s (an engine is unusable after it raised Stopped).
 
 The search alternates the two from the associative solution (rho 1e3 then 1e4, and again
-with rho raised from 10: :meth:`GapSearch.continuation`), descends from every
+with rho raised from 10 and from 30: :meth:`GapSearch.continuations`), descends from every
 certified state, and explores perturbed cohesions ``c exp(sigma z)`` and the seed's
 fixed-point chain until its budget or its stopping rule. Numbers are non-dimensional
 inside (forces by the dead load, lengths by the structure's size); states come back in

@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from lamodel.search.engine import GapSearch, Deadline, generator_matrix, search
+from lamodel.search.engine import RHO_CONTS, GapSearch, Deadline, generator_matrix, search
 from lamodel.geometry import running_bond_wall, seed_wall
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.formulation.matrices import equilibrium_matrix, load_vectors, yield_matrix
@@ -346,7 +346,7 @@ def test_continuation_starts_certify_and_give_the_lps_their_bases_back():
             assert after is None
         else:
             assert all(np.array_equal(b, a) for b, a in zip(before[name], after))
-    found = [e.continuation(x0, rhos) for rhos in ((10.0, 100.0, 1e3, 1e4), (30.0, 300.0, 1e3, 1e4))]
+    found = [e.continuation(x0, rhos) for rhos in RHO_CONTS]
     assert any(st is not None for st in found)
     for st in found:
         if st is not None:
