@@ -1,0 +1,197 @@
+"""A block assembly in space as data: polyhedral blocks, supports, interfaces, contact points.
+
+The 3D counterpart of :class:`lamodel.structure.Structure`; the matrices of eq. (1)-(5) in
+3D built from these data live in :mod:`lamodel.formulation` (point-contact model).
+
+Conventions (used everywhere in lamodel's 3D code, and in the 3D output CSVs):
+
+* z is up; gravity acts along -z.
+* An **interface** joins body ``a`` and body ``b`` (either may be a support, not both) over a
+  planar polygon (the intersection of two opposite faces). A block pair may share several
+  interfaces (non-convex blocks).
+* Each interface carries **contact points** (by default its polygon's vertices). At point i
+  the unit normal ``n`` points from a to b; ``t1``, ``t2`` are unit tangents with
+  ``(n, t1, t2)`` right-handed and orthonormal.
+* The force ``N n + T1 t1 + T2 t2`` acts on body a at the point, its opposite on body b.
+  ``N <= 0`` is compression (as in 2D); the Coulomb cone reads ``hypot(T1, T2) <= -mu N``.
+* Block motions ``u = (ux, uy, uz, rx, ry, rz)`` are taken at the block centroid; block
+  forces are ordered ``(fx, fy, fz, mx, my, mz)`` block after block, moments about the
+  centroid.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InputError
+
+
+@dataclass
+class Structure3D:
+    """An assembly of rigid polyhedral blocks with Coulomb point contacts (seed eq. 1-4 in 3D)."""
+
+    name: str
+    blocks: list                 # ids of the movable blocks
+    centroid: np.ndarray         # (nb, 3)
+    dead: np.ndarray             # (nb, 3) constant force f0 at the centroid
+    live: np.ndarray             # (nb, 3) base live force fbar at the centroid (times alpha)
+    supports: list               # ids of the fixed bodies
+    interfaces: list             # ids of the interfaces
+    iface_a: list                # per interface: id of body a (a block or a support)
+    iface_b: list                # per interface: id of body b
+    iface_polygon: list          # per interface: (k, 3) polygon vertices in the face plane
+    point_interface: np.ndarray  # (np,) index into interfaces of each contact point
+    point: np.ndarray            # (np, 3) position of each contact point
+    normal: np.ndarray           # (np, 3) unit normal from a to b
+    tangent1: np.ndarray         # (np, 3)
+    tangent2: np.ndarray         # (np, 3)
+    mu: np.ndarray               # (np,) friction coefficient
+    dead_m: np.ndarray | None = None   # (nb, 3) moment of dead loads about the centroid
+    live_m: np.ndarray | None = None   # (nb, 3) moment of live loads about the centroid
+    volume: np.ndarray | None = None   # (nb,) block volumes (information, pictures)
+    polyhedra: dict = field(default_factory=dict)  # id -> (vertices (k, 3), faces [[i, j, k, ...]])
+    units: dict = field(default_factory=dict)      # {"length": "m", "force": "kN"}; empty: dimensionless
+    meta: dict = field(default_factory=dict)       # defaults applied, source format, ...
+
+    dimension = 3
+
+    def __post_init__(self):
+        self.blocks = [str(b) for b in self.blocks]
+        self.supports = [str(b) for b in self.supports]
+        self.interfaces = [str(c) for c in self.interfaces]
+        self.iface_a = [str(b) for b in self.iface_a]
+        self.iface_b = [str(b) for b in self.iface_b]
+        f = lambda x, shape: np.asarray(x, dtype=float).reshape(shape)  # noqa: E731
+        nb, npt = len(self.blocks), len(np.asarray(self.point_interface).reshape(-1))
+        self.centroid = f(self.centroid, (nb, 3))
+        self.dead = f(self.dead, (nb, 3))
+        self.live = f(self.live, (nb, 3))
+        self.iface_polygon = [np.asarray(p, dtype=float).reshape(-1, 3) for p in self.iface_polygon]
+        self.point_interface = np.asarray(self.point_interface, dtype=int).reshape(npt)
+        self.point = f(self.point, (npt, 3))
+        self.normal = f(self.normal, (npt, 3))
+        self.tangent1 = f(self.tangent1, (npt, 3))
+        self.tangent2 = f(self.tangent2, (npt, 3))
+        self.mu = f(self.mu, (npt,))
+        self.dead_m = np.zeros((nb, 3)) if self.dead_m is None else f(self.dead_m, (nb, 3))
+        self.live_m = np.zeros((nb, 3)) if self.live_m is None else f(self.live_m, (nb, 3))
+        self.volume = np.zeros(nb) if self.volume is None else f(self.volume, (nb,))
+        self.units = {str(k): str(v) for k, v in (self.units or {}).items() if v}
+
+    # ----------------------------------------------------------------- sizes and lookups
+    @property
+    def n_blocks(self) -> int:
+        return len(self.blocks)
+
+    @property
+    def n_interfaces(self) -> int:
+        return len(self.interfaces)
+
+    @property
+    def n_points(self) -> int:
+        return len(self.point_interface)
+
+    def block_index(self) -> dict:
+        return {b: j for j, b in enumerate(self.blocks)}
+
+    def interface_blocks(self):
+        """Indices of blocks a and b per interface, -1 for a support."""
+        idx = self.block_index()
+        ia = np.array([idx.get(b, -1) for b in self.iface_a], dtype=int)
+        ib = np.array([idx.get(b, -1) for b in self.iface_b], dtype=int)
+        return ia, ib
+
+    def point_blocks(self):
+        """Indices of blocks a and b per contact point, -1 for a support."""
+        ia, ib = self.interface_blocks()
+        return ia[self.point_interface], ib[self.point_interface]
+
+    def size(self) -> float:
+        """A length that measures the whole structure (diagonal of its bounding box)."""
+        pts = [self.centroid, self.point] + [np.asarray(v[0]) for v in self.polyhedra.values()]
+        p = np.vstack([x for x in pts if len(x)])
+        return float(np.linalg.norm(p.max(axis=0) - p.min(axis=0))) or 1.0
+
+    # ----------------------------------------------------------------------- checking
+    def validate(self) -> "Structure3D":
+        """Raise InputError on anything that cannot describe a block assembly in space."""
+        where = f"structure '{self.name}'"
+        if self.n_blocks == 0:
+            raise InputError(f"{where}: the set of blocks is empty; expected at least one movable block")
+        if self.n_interfaces == 0 or self.n_points == 0:
+            raise InputError(f"{where}: there are no contacts; expected blocks resting on supports or on each other")
+        for kind, ids in (("block", self.blocks), ("support", self.supports), ("interface", self.interfaces)):
+            seen = set()
+            for i in ids:
+                if not i.strip():
+                    raise InputError(f"{where}: a {kind} id is empty; expected non-empty ids")
+                if i in seen:
+                    raise InputError(f"{where}: {kind} '{i}' is declared twice; expected unique ids")
+                seen.add(i)
+        both = set(self.blocks) & set(self.supports)
+        if both:
+            raise InputError(f"{where}: '{sorted(both)[0]}' is both a block and a support; expected one or the other")
+        for name, arr in (("centroid", self.centroid), ("dead", self.dead), ("live", self.live),
+                          ("dead_m", self.dead_m), ("live_m", self.live_m)):
+            bad = ~np.isfinite(arr)
+            if bad.any():
+                j = int(np.argwhere(bad)[0][0])
+                raise InputError(f"{where}: {name} of block '{self.blocks[j]}' is not a finite number; expected finite values")
+        for name, arr in (("point", self.point), ("normal", self.normal), ("tangent1", self.tangent1),
+                          ("tangent2", self.tangent2), ("mu", self.mu)):
+            bad = ~np.isfinite(arr)
+            if bad.any():
+                i = int(np.argwhere(bad)[0][0])
+                k = self.interfaces[self.point_interface[i]]
+                raise InputError(f"{where}: {name} of a contact point of interface '{k}' is not a finite number; expected finite values")
+        if self.point_interface.min() < 0 or self.point_interface.max() >= self.n_interfaces:
+            raise InputError(f"{where}: a contact point names an interface that does not exist")
+        known = set(self.blocks) | set(self.supports)
+        for k, a, b in zip(self.interfaces, self.iface_a, self.iface_b):
+            for end, x in (("a", a), ("b", b)):
+                if x not in known:
+                    raise InputError(f"{where}: interface '{k}' names unknown body {end} '{x}'; expected a declared block or support")
+            if a == b:
+                raise InputError(f"{where}: interface '{k}' joins '{a}' to itself; expected two different bodies")
+            if a in self.supports and b in self.supports:
+                raise InputError(f"{where}: interface '{k}' joins two supports '{a}' and '{b}'; expected at least one movable block")
+        frame = np.stack([self.normal, self.tangent1, self.tangent2], axis=1)  # (np, 3, 3)
+        err = np.abs(np.einsum("pij,pkj->pik", frame, frame) - np.eye(3)).max(axis=(1, 2))
+        det = np.linalg.det(frame)
+        bad = np.flatnonzero((err > 1e-6) | (det < 0))
+        if bad.size:
+            k = self.interfaces[self.point_interface[bad[0]]]
+            raise InputError(f"{where}: the frame (n, t1, t2) of a contact point of interface '{k}' is not "
+                             "orthonormal and right-handed; expected unit normal and tangents")
+        bad = np.flatnonzero(self.mu < 0)
+        if bad.size:
+            k = self.interfaces[self.point_interface[bad[0]]]
+            raise InputError(f"{where}: mu of interface '{k}' is {self.mu[bad[0]]:.6g}; expected a friction coefficient >= 0")
+        ia, ib = self.interface_blocks()
+        touched = np.zeros(self.n_blocks, dtype=bool)
+        touched[ia[ia >= 0]] = True
+        touched[ib[ib >= 0]] = True
+        if not touched.all():
+            j = int(np.flatnonzero(~touched)[0])
+            raise InputError(f"{where}: block '{self.blocks[j]}' touches nothing (a free body); expected every block to have a contact")
+        if not (np.any(self.live) or np.any(self.live_m)):
+            raise InputError(f"{where}: every live load is zero; expected a live load for alpha to multiply")
+        return self
+
+
+def tangent_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit tangents t1, t2 for unit normals (n, 3) with (n, t1, t2) right-handed.
+
+    t1 is the horizontal direction n x z where n is not vertical (so that t1 follows a
+    wall's course), else x; the choice is a convention only: the cone is round.
+    """
+    n = np.asarray(normal, dtype=float).reshape(-1, 3)
+    ref = np.tile([0.0, 0.0, 1.0], (len(n), 1))
+    vertical = np.abs(n[:, 2]) > 1 - 1e-9
+    t1 = np.cross(n, ref)
+    t1[vertical] = [1.0, 0.0, 0.0]
+    t1 -= (t1 * n).sum(axis=1, keepdims=True) * n
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    t2 = np.cross(n, t1)
+    return t1, t2
