@@ -1,4 +1,4 @@
-"""The algebraic model of the seed's eq. (5) in Pyomo.
+"""The algebraic model of the seed's eq. (5) in Pyomo::
 
     alpha_c = min alpha
         s in S            : equilibrium (eq. 1-2) and the Coulomb yield rows (eq. 4)
