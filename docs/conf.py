@@ -58,7 +58,8 @@ intersphinx_timeout = 5
 
 html_theme = "sphinx_rtd_theme"
 html_title = f"lamodel {release}"
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
 html_theme_options = {"navigation_depth": 3, "collapse_navigation": False}
 
 
