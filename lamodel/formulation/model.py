@@ -318,6 +318,7 @@ def _take_config(init):
 
 
 LimitAnalysisBlock.__init__ = _take_config(LimitAnalysisBlock.__init__)  # noqa: F821 (made by the decorator)
+LimitAnalysisBlock.__doc__ = LimitAnalysisBlockData.__doc__  # noqa: F821  its help() and API reference
 
 
 # ------------------------------------------------------------- values in and out of a model
