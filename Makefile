@@ -6,7 +6,7 @@ DEBS   := coinor-libipopt-dev liblapack-dev libblas-dev libmumps-seq-dev pkg-con
 STAMP  := $(VENV)/.installed
 DEMO   := $(firstword $(wildcard instances/portal.dat) instances/wall33.dat)
 
-.PHONY: setup demo test debs clean
+.PHONY: setup demo test docs debs clean
 
 setup: debs $(STAMP)
 
@@ -31,5 +31,16 @@ demo: setup
 test: setup
 	$(PY) -m pytest -q
 
+# The documentation site (Sphinx, Markdown pages through MyST), warnings as errors; the API
+# pages are generated afresh from the package's modules each time.
+docs: setup $(VENV)/.installed-docs
+	rm -rf docs/api/generated
+	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
+	@echo "open docs/_build/html/index.html"
+
+$(VENV)/.installed-docs: setup.cfg pyproject.toml
+	$(PY) -m pip install -q -e '.[docs]'
+	@touch $@
+
 clean:
-	rm -rf $(VENV) results *.egg-info
+	rm -rf $(VENV) results *.egg-info docs/_build docs/api/generated

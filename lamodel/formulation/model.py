@@ -1,4 +1,4 @@
-"""The algebraic model of the seed's eq. (5) in Pyomo.
+"""The algebraic model of the seed's eq. (5) in Pyomo::
 
     alpha_c = min alpha
         s in S            : equilibrium (eq. 1-2) and the Coulomb yield rows (eq. 4)
@@ -318,6 +318,7 @@ def _take_config(init):
 
 
 LimitAnalysisBlock.__init__ = _take_config(LimitAnalysisBlock.__init__)  # noqa: F821 (made by the decorator)
+LimitAnalysisBlock.__doc__ = LimitAnalysisBlockData.__doc__  # noqa: F821  its help() and API reference
 
 
 # ------------------------------------------------------------- values in and out of a model
