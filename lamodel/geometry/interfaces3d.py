@@ -83,7 +83,6 @@ def _facet_table(polys):
         "shape": np.array([f.shape for f in facets], dtype=object),
         "warp": np.array([f.warp for f in facets]),
     }
-    t["centre"] = (t["lo"] + t["hi"]) / 2
     t["extent"] = np.linalg.norm(t["hi"] - t["lo"], axis=1)
     return t, start, count
 
@@ -142,8 +141,8 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     ext = np.minimum(t["extent"][fa], t["extent"][fb])
     gap = tol + t["warp"][fa] + t["warp"][fb]   # warped faces (CAD) meet within their warp
     ok = 1 + np.einsum("ij,ij->i", na, nb) <= 0.5 * (2 * gap / np.maximum(ext, tol)) ** 2 + 1e-15
-    ok &= np.abs(np.einsum("ij,ij->i", t["centre"][fb] - t["origin"][fa], na)) <= gap
-    ok &= np.abs(np.einsum("ij,ij->i", t["centre"][fa] - t["origin"][fb], nb)) <= gap
+    d = t["origin"][fb] - t["origin"][fa]   # origins are vertices on (or, warped, near) the planes
+    ok &= (np.abs(np.einsum("ij,ij->i", d, na)) <= gap) & (np.abs(np.einsum("ij,ij->i", d, nb)) <= gap)
     ok &= ((t["lo"][fa] <= t["hi"][fb] + tol) & (t["lo"][fb] <= t["hi"][fa] + tol)).all(axis=1)
     fa, fb = fa[ok], fb[ok]
     if not len(fa):

@@ -93,22 +93,51 @@ def _face_triangles(vertices, face) -> np.ndarray:
     return np.array(out)
 
 
-def _hull_faces(bid, vertices, tol):
-    """Outward faces of the convex hull of ``vertices`` (triangles; coplanar ones merge later)."""
-    span = vertices.max(axis=0) - vertices.min(axis=0)
-    if len(vertices) < 4 or np.sort(span)[1] <= tol:
-        raise InputError(f"block '{bid}': its {len(vertices)} vertices do not span a solid; "
+def _convex_polyhedron(bid, v, tol) -> Polyhedron:
+    """The convex hull of ``v`` as a Polyhedron, vectorised (the common case: it must be fast)."""
+    span = v.max(axis=0) - v.min(axis=0)
+    if len(v) < 4 or np.sort(span)[1] <= tol:
+        raise InputError(f"block '{bid}': its {len(v)} vertices do not span a solid; "
                          "expected at least 4 vertices not all in one plane")
     try:
-        hull = ConvexHull(vertices)
+        hull = ConvexHull(v)
     except QhullError:
         raise InputError(f"block '{bid}': its vertices are all in one plane (zero volume); "
                          "expected the corners of a solid") from None
-    faces = []
-    for simplex, eq in zip(hull.simplices, hull.equations):
-        a, b, c = vertices[simplex]
-        faces.append(list(simplex) if np.dot(np.cross(b - a, c - a), eq[:3]) > 0 else list(simplex[::-1]))
-    return faces
+    eq = hull.equations
+    size = float(np.linalg.norm(span))
+    same = (eq[:, :3] @ eq[:, :3].T > 1 - 0.5 * (tol / size) ** 2 - 1e-12) & \
+        (np.abs(eq[:, 3:4] - eq[:, 3]) <= tol)
+    label = np.argmax(same, axis=1)          # each simplex joins the first of its plane
+    groups = np.unique(label)
+    normal = np.array([eq[label == g, :3].mean(axis=0) for g in groups])
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    e1, e2 = tangent_frame(normal)
+    used = np.unique(hull.simplices)
+    remap = -np.ones(len(v), dtype=int)
+    remap[used] = np.arange(len(used))
+    faces, coords, index, facets_pts = [], [], [], []
+    for k, g in enumerate(groups):
+        ids = np.unique(hull.simplices[label == g])
+        p = v[ids]
+        xy = np.c_[p @ e1[k], p @ e2[k]]
+        c = xy.mean(axis=0)
+        order = np.argsort(np.arctan2(xy[:, 1] - c[1], xy[:, 0] - c[0]))
+        faces.append(remap[ids[order]].tolist())
+        coords.append(xy[order] - (p[order[0]] @ e1[k], p[order[0]] @ e2[k]))
+        index.append(np.full(len(ids), k))
+        facets_pts.append(p[order])
+    shapes = shapely.polygons(shapely.linearrings(np.vstack(coords), indices=np.concatenate(index)))
+    v = v[used]
+    facets = []
+    for k, pts in enumerate(facets_pts):
+        off = float(np.mean(pts @ normal[k]))
+        facets.append(Facet(normal[k], off, pts[0], e1[k], e2[k], shapes[k], pts.min(axis=0), pts.max(axis=0)))
+    tris = np.array([[v[f[0]], v[f[i]], v[f[i + 1]]] for f in faces for i in range(1, len(f) - 1)])
+    vol, centroid = _volume_centroid(tris)
+    if vol <= tol * size * size:
+        raise InputError(f"block '{bid}': it has zero volume; expected a solid block")
+    return Polyhedron(bid, v, faces, vol, np.asarray(centroid), facets, True, 0.0)
 
 
 def _split_face(vertices, face) -> list:
@@ -296,11 +325,7 @@ def polyhedron(block_id, vertices, faces=None, tol: float = 1e-9, split_nonplana
     if not np.isfinite(v).all():
         raise InputError(f"block '{bid}': a vertex coordinate is not a finite number; expected finite numbers")
     if faces is None:
-        faces = _hull_faces(bid, v, tol)
-        used = sorted({i for f in faces for i in f})
-        remap = {old: new for new, old in enumerate(used)}
-        v, faces = v[used], [[remap[i] for i in f] for f in faces]
-        convex, loops, warp = True, faces, 0.0
+        return _convex_polyhedron(bid, v, tol)
     else:
         if not isinstance(faces, (list, tuple)) or len(faces) < 4:
             raise InputError(f"block '{bid}': 'faces' is not a list of at least 4 faces; expected vertex index loops")
