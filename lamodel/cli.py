@@ -571,6 +571,11 @@ def _build_arguments(p):
 def _build(args, prog) -> int:
     from .io.datfile import write_dat
     from .io.jsonspec import structure_from_json
+    from .output.tables3d import build_summary3d
+
+    if (line := build_summary3d(args.geometry)) is not None:  # a 3D input: its contacts summary
+        print(line)
+        return EXIT_OK
 
     output = Path(args.output) if args.output else Path(args.geometry).with_suffix(".dat")
     structure = structure_from_json(args.geometry, name=args.name)
