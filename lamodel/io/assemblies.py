@@ -13,8 +13,10 @@ below Z).
   its node key; COMPAS's own interfaces, if present, are ignored and recomputed. Warped
   (non-planar) faces, COMPAS's approximation of curved intrados and extrados, are split
   into triangles; a contact is found only between planar pieces.
-* Meshes (through trimesh): each connected component of the file is one block, named
-  ``b1, b2, ...`` in the order trimesh gives them (glTF scenes: all geometries, placed).
+* Meshes (through trimesh): a file of several geometries (OBJ objects, glTF nodes, placed)
+  gives one block per geometry; a single geometry gives one block per connected component
+  (blocks whose corners coincide then merge: give them as separate geometries). Blocks are
+  named ``b1, b2, ...`` in the file's order.
 """
 from __future__ import annotations
 
@@ -22,6 +24,8 @@ import json
 from pathlib import Path
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from ..errors import InputError
 from ..structure3d import Structure3D
@@ -134,9 +138,20 @@ def mesh_spec(path, where: str) -> dict:
     blocks = []
     for m in meshes:
         m = trimesh.Trimesh(m.vertices, m.faces, process=True, validate=False)  # weld duplicate vertices
-        for part in m.split(only_watertight=False):
-            blocks.append({"id": f"b{len(blocks) + 1}", "vertices": np.asarray(part.vertices).tolist(),
-                           "faces": np.asarray(part.faces).tolist()})
+        v, f = np.asarray(m.vertices), np.asarray(m.faces)
+        edges = np.r_[f[:, [0, 1]], f[:, [1, 2]]]
+        graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(len(v), len(v)))
+        n, label = connected_components(graph, directed=False)
+        for k in range(n if len(meshes) == 1 else 1):   # several geometries: each is one block
+            if len(meshes) > 1:
+                label[:] = k
+            keep = np.flatnonzero(label == k)
+            faces = f[label[f[:, 0]] == k]
+            if not len(faces):
+                continue
+            remap = -np.ones(len(v), dtype=int)
+            remap[keep] = np.arange(len(keep))
+            blocks.append({"id": f"b{len(blocks) + 1}", "vertices": v[keep].tolist(), "faces": remap[faces].tolist()})
     return {"name": Path(path).stem, "blocks": blocks}
 
 

@@ -91,17 +91,18 @@ def summary_rows(s: Structure3D) -> list:
     return rows
 
 
-def build_summary3d(path) -> str | None:
-    """The ``lamodel build`` line for a 3D input (None when ``path`` is a planar input)."""
+def build_summary3d(path, **options) -> str | None:
+    """The ``lamodel build`` line for a 3D input (None when ``path`` is a planar input);
+    ``options`` as :func:`lamodel.io.read`."""
     from pathlib import Path
 
     from ..io import read
     from ..io.assemblies import MESH_SUFFIXES, read_3d_json
     p = Path(path)
     if p.suffix.lower() in MESH_SUFFIXES:
-        s = read(p)
+        s = read(p, **options)
     elif p.suffix.lower() == ".json" and p.is_file():
-        s = read_3d_json(p)
+        s = read_3d_json(p, **options)
         if s is None:
             return None
     else:
