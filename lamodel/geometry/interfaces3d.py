@@ -19,6 +19,7 @@ two bodies in the input (smaller first), then by the polygon's centroid.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,7 +148,10 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     fa, fb = fa[ok], fb[ok]
     if not len(fa):
         return []
-    inter = shapely.intersection(t["shape"][fa], _to_frame(t, fa, fb))
+    # snap-rounded overlay on a binary grid finer than the tolerance: exact overlay of nearly
+    # identical polygons can fail in GEOS (a square with itself rotated: an empty result)
+    grid = 2.0 ** math.floor(math.log2(tol / 8)) if tol > 0 else 0.0
+    inter = shapely.intersection(t["shape"][fa], _to_frame(t, fa, fb), grid_size=grid)
     parts, idx = shapely.get_parts(inter, return_index=True)
     poly = shapely.get_type_id(parts) == 3
     area = shapely.area(parts)

@@ -33,6 +33,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..errors import InputError
 from ..geometry.interfaces3d import find_interfaces, interface_points, parse_contact_points
+from ..geometry.hulls import convex_polyhedra
 from ..geometry.polyhedra import polyhedron
 from ..structure3d import Structure3D, tangent_frame
 from .jsonspec import _number, _units, _warn_unknown
@@ -157,7 +158,8 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     size = float(np.linalg.norm(finite.max(axis=0) - finite.min(axis=0))) if len(finite) else 1.0
     tol = rel_tol * (size or 1.0)
     try:
-        polys = [polyhedron(b[0], b[1], b[2], tol, split_nonplanar) for b in bodies]
+        bulk = convex_polyhedra([b[0] for b in bodies], [b[1] if b[2] is None else [] for b in bodies], tol)
+        polys = [p or polyhedron(b[0], b[1], b[2], tol, split_nonplanar) for p, b in zip(bulk, bodies)]
         interfaces = find_interfaces(polys, is_support, tol)
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
