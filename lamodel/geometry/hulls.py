@@ -76,13 +76,16 @@ def _group(ids, P, tol):
     facets = [[] for _ in range(B)]
     faces = [[] for _ in range(B)]
     start = np.concatenate([[0], np.cumsum(cnt)])
+    corners = P[bi]                                                   # (F, k, 3)
+    offset = (np.einsum("fki,fi->fk", corners, normal) * member).sum(axis=1) / cnt
+    lo = np.where(member[..., None], corners, np.inf).min(axis=1)
+    hi = np.where(member[..., None], corners, -np.inf).max(axis=1)
+    origin = corners[rows, order[:, 0]]
+    loops = np.split(flat_j, start[1:-1])
     for f in rows:
         blk = bi[f]
-        loop = flat_j[start[f]:start[f + 1]]
-        pts = P[blk, loop]
-        faces[blk].append(loop.tolist())
-        off = float(np.mean(pts @ normal[f]))
-        facets[blk].append(Facet(normal[f], off, pts[0], e1[f], e2[f], shapes[f], pts.min(axis=0), pts.max(axis=0)))
+        faces[blk].append(loops[f].tolist())
+        facets[blk].append(Facet(normal[f], float(offset[f]), origin[f], e1[f], e2[f], shapes[f], lo[f], hi[f]))
     for i in np.flatnonzero(ok_block):
         cen = centre[i, 0] + mom[i] / vol6[i]
         out_list[i] = Polyhedron(ids[i], P[i], faces[i], float(volume[i]), cen, facets[i], True, 0.0)

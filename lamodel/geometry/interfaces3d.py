@@ -144,38 +144,52 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     ok = 1 + np.einsum("ij,ij->i", na, nb) <= 0.5 * (2 * gap / np.maximum(ext, tol)) ** 2 + 1e-15
     d = t["origin"][fb] - t["origin"][fa]   # origins are vertices on (or, warped, near) the planes
     ok &= (np.abs(np.einsum("ij,ij->i", d, na)) <= gap) & (np.abs(np.einsum("ij,ij->i", d, nb)) <= gap)
-    ok &= ((t["lo"][fa] <= t["hi"][fb] + tol) & (t["lo"][fb] <= t["hi"][fa] + tol)).all(axis=1)
+    overlap = np.minimum(t["hi"][fa], t["hi"][fb]) - np.maximum(t["lo"][fa], t["lo"][fb])
+    ok &= (overlap >= -tol).all(axis=1) & ((overlap > tol).sum(axis=1) >= 2)   # an area, not an edge
     fa, fb = fa[ok], fb[ok]
     if not len(fa):
         return []
-    # snap-rounded overlay on a binary grid finer than the tolerance: exact overlay of nearly
-    # identical polygons can fail in GEOS (a square with itself rotated: an empty result)
-    grid = 2.0 ** math.floor(math.log2(tol / 8)) if tol > 0 else 0.0
-    inter = shapely.intersection(t["shape"][fa], _to_frame(t, fa, fb), grid_size=grid)
+    sa, sb = t["shape"][fa], _to_frame(t, fa, fb)
+    inter = shapely.intersection(sa, sb)
+    # exact overlay of nearly identical polygons can fail in GEOS (a square and its rotated
+    # copy gave two points): pairs without an area are redone snap-rounded on a binary grid
+    # finer than the tolerance
+    redo = np.flatnonzero(shapely.area(inter) <= tol * shapely.length(inter))
+    if len(redo) and tol > 0:
+        grid = 2.0 ** math.floor(math.log2(tol / 8))
+        inter[redo] = shapely.intersection(sa[redo], sb[redo], grid_size=grid)
     parts, idx = shapely.get_parts(inter, return_index=True)
-    poly = shapely.get_type_id(parts) == 3
     area = shapely.area(parts)
-    keep = poly & (area > tol * shapely.length(parts)) & (area > 0)
+    keep = (shapely.get_type_id(parts) == 3) & (area > tol * shapely.length(parts)) & (area > 0)
+    parts, idx = shapely.orient_polygons(shapely.simplify(parts[keep], tol / 2)), idx[keep]
+    keep = (shapely.get_type_id(parts) == 3) & ~shapely.is_empty(parts)
+    parts, idx = parts[keep], idx[keep]
+    f_a, f_b = fa[idx], fb[idx]
+    # every exterior ring in space at once (rings are closed: the last point repeats the first)
+    xy, ring = shapely.get_coordinates(shapely.get_exterior_ring(parts), return_index=True)
+    last = np.r_[ring[1:] != ring[:-1], True]
+    xy, ring = xy[~last], ring[~last]
+    o, e1, e2 = t["origin"][f_a], t["e1"][f_a], t["e2"][f_a]
+    xyz = o[ring] + xy[:, :1] * e1[ring] + xy[:, 1:] * e2[ring]
+    cut = np.flatnonzero(np.r_[True, ring[1:] != ring[:-1]])
+    rings = np.split(xyz, cut[1:])
+    a_all, b_all = t["block"][f_a].astype(int), t["block"][f_b].astype(int)
+    holes_of = shapely.get_num_interior_rings(parts)
     out = []
-    for g, k in zip(parts[keep], idx[keep]):
-        g = shapely.orient_polygons(shapely.simplify(g, tol / 2))
-        if g.is_empty or g.geom_type != "Polygon":
-            continue
-        f_a, f_b = fa[k], fb[k]
-        frame = (t["origin"][f_a], t["e1"][f_a], t["e2"][f_a])
-
-        def lift(ring):
-            xy = np.asarray(ring.coords)[:-1]
-            return frame[0] + xy[:, :1] * frame[1] + xy[:, 1:] * frame[2]
-
-        a, b, n = int(t["block"][f_a]), int(t["block"][f_b]), t["normal"][f_a].copy()
-        ext_ring, holes = lift(g.exterior), [lift(r) for r in g.interiors]
+    for k, g in enumerate(parts):
+        a, b, n = int(a_all[k]), int(b_all[k]), t["normal"][f_a[k]].copy()
+        frame = (o[k], e1[k], e2[k])
+        ext_ring = rings[k]
+        holes = [frame[0] + c[:-1, :1] * frame[1] + c[:-1, 1:] * frame[2]
+                 for c in (np.asarray(r.coords) for r in g.interiors)] if holes_of[k] else []
         if _orientation_swap(n, is_support[a], is_support[b]):
             a, b, n = b, a, -n
             ext_ring, holes = ext_ring[::-1], [h[::-1] for h in holes]
         out.append(Interface(a, b, n, ext_ring, holes, float(g.area), g, frame))
-    out.sort(key=lambda f: (min(f.a, f.b), max(f.a, f.b), *np.round(f.polygon.mean(axis=0) / max(tol, 1e-300))))
-    return out
+    centre = np.array([f.polygon.mean(axis=0) for f in out]).reshape(-1, 3)
+    key = np.round(centre / max(tol, 1e-300))
+    order = np.lexsort((key[:, 2], key[:, 1], key[:, 0], [max(f.a, f.b) for f in out], [min(f.a, f.b) for f in out]))
+    return [out[i] for i in order]
 
 
 # ------------------------------------------------------------------------------ overlaps
