@@ -134,3 +134,27 @@ def test_hostile_inputs_give_one_line_errors_naming_the_block():
     bad = json.loads(json.dumps(good))
     bad["blocks"][1]["faces"][0] = [0, 3, 1, 2]
     _bad(bad, ["'box'"])
+
+
+def test_a_surface_crossing_itself_is_refused():
+    from lamodel.geometry.polyhedra import polyhedron
+    faces = polyhedron("c", cube(0, 0, 0)).faces          # outward loops of the hull, same corners
+    v = cube(0, 0, 0) + cube(0.5, 0.3, 0.4)             # two cubes' surfaces crossing, as one block
+    both = faces + [[i + 8 for i in f] for f in faces]
+    spec = {"name": "x", "mu": 0.6, "blocks": [{"id": "ground", "support": True, "vertices": cube(-1, -1, -1, 3, 3, 1)},
+                                               {"id": "one", "vertices": cube(0, 0, 0), "faces": faces}]}
+    structure3d_from_spec(spec)                            # the faces are right: one cube reads
+    spec["blocks"][1] = {"id": "twin", "vertices": v, "faces": both}
+    _bad(spec, ["'twin'", "crosses itself"])
+
+
+def test_an_open_mesh_is_refused(tmp_path):
+    import trimesh
+    from lamodel.io import read
+    ground = trimesh.creation.box(extents=[4, 4, 1]).apply_translation([0, 0, -0.5])
+    box = trimesh.creation.box(extents=[1, 1, 1]).apply_translation([0, 0, 0.5])
+    box = trimesh.Trimesh(box.vertices, box.faces[:-1], process=False)     # one triangle missing
+    path = tmp_path / "open.glb"
+    trimesh.Scene([ground, box]).export(path)
+    with pytest.raises(InputError, match=r"block 'b\d'.*open"):
+        read(path, supports_below=-0.5)
