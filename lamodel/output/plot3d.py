@@ -30,8 +30,10 @@ def _faces(vertices, faces):
 
 
 def plot_structure3d(s: Structure3D, path, motions=None, amplification: float | None = None,
-                     title: str | None = None, elev: float = 22, azim: float = -60, dpi: int = 110) -> str:
-    """Draw the structure (and the mechanism ``motions`` (nb, 6), amplified) to ``path``."""
+                     title: str | None = None, elev: float = 22, azim: float = -60, dpi: int = 110,
+                     loads: bool = True) -> str:
+    """Draw the structure (and the mechanism ``motions`` (nb, 6), amplified) to ``path``;
+    ``loads``: the live loads as arrows at the centroids."""
     u = check_motions(s, motions)
     amp = default_amplification(s, u) if amplification is None else float(amplification)
     label = macro_blocks(s, u)
@@ -39,12 +41,16 @@ def plot_structure3d(s: Structure3D, path, motions=None, amplification: float | 
     idx = s.block_index()
     fig = plt.figure(figsize=(7, 5.5))
     ax = fig.add_subplot(projection="3d")
-    polys, colours, alphas = [], [], []
+    # supports first and beneath: mplot3d sorts polygons by depth within a collection only,
+    # and a large ground slab would otherwise be painted over the blocks standing on it
+    ax.computed_zorder = False
+    ground = [f for b, (v, faces) in s.polyhedra.items() if b not in idx for f in _faces(v, faces)]
+    ax.add_collection3d(Poly3DCollection(ground, facecolors=_SUPPORT, edgecolors="#404040", linewidths=0.25,
+                                         zorder=1))
+    polys, colours = [], []
     for b, (v, faces) in s.polyhedra.items():
         j = idx.get(b)
         if j is None:
-            polys += _faces(v, faces)
-            colours += [_SUPPORT] * len(faces)
             continue
         moving = u is not None and label[j] >= 0
         if moving:
@@ -53,7 +59,7 @@ def plot_structure3d(s: Structure3D, path, motions=None, amplification: float | 
         else:
             polys += _faces(v, faces)
             colours += [_BLOCK] * len(faces)
-    ax.add_collection3d(Poly3DCollection(polys, facecolors=colours, edgecolors=_EDGE, linewidths=0.25))
+    ax.add_collection3d(Poly3DCollection(polys, facecolors=colours, edgecolors=_EDGE, linewidths=0.25, zorder=2))
     pts = np.vstack([np.asarray(v) for v, _ in s.polyhedra.values()])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     if u is not None:
@@ -61,9 +67,10 @@ def plot_structure3d(s: Structure3D, path, motions=None, amplification: float | 
         allp = np.vstack([pts] + moved)
         lo, hi = allp.min(axis=0), allp.max(axis=0)
     live = np.linalg.norm(s.live, axis=1)
-    if live.max() > 0:
+    if loads and live.max() > 0:
         scale = 0.08 * s.size() / live.max()
-        ax.quiver(*s.centroid.T, *(s.live * scale).T, color="#1e8449", linewidth=0.8, arrow_length_ratio=0.3)
+        ax.quiver(*s.centroid.T, *(s.live * scale).T, color="#1e8449", linewidth=0.8, arrow_length_ratio=0.3,
+                  zorder=3)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_zlim(lo[2], hi[2])

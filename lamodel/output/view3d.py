@@ -4,7 +4,7 @@
 The reader turns and zooms the structure; the blocks at rest are faint, the moving blocks
 drawn displaced and coloured by macro-block (blocks moving together); a slider sets the
 amplification (0 = at rest). Contact points whose mode is opening or sliding are marked;
-live loads are arrows (cones) at the block centroids.
+live loads are arrows from the block centroids.
 """
 from __future__ import annotations
 
@@ -84,29 +84,34 @@ def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: 
                 traces.append(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers", name=f"{mode} contacts",
                                            marker=dict(size=3, color=colour)))
     live = np.linalg.norm(s.live, axis=1)
-    if live.max() > 0:
-        c = s.centroid
-        traces.append(go.Cone(x=c[:, 0], y=c[:, 1], z=c[:, 2], u=s.live[:, 0], v=s.live[:, 1], w=s.live[:, 2],
-                              sizemode="absolute", sizeref=float(live.max()) / (0.03 * s.size()),
-                              anchor="tail", colorscale=[[0, "#1e8449"], [1, "#1e8449"]], showscale=False,
-                              name="live loads", showlegend=True))
+    if live.max() > 0:   # arrows: a shaft from the centroid, a dot at the head (many: off, in the legend)
+        shown = True if s.n_blocks <= 60 else "legendonly"
+        tip = s.centroid + s.live * (0.06 * s.size() / live.max())
+        seg = np.full((3 * s.n_blocks, 3), np.nan)
+        seg[0::3], seg[1::3] = s.centroid, tip
+        traces.append(go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2], mode="lines", name="live loads",
+                                   line=dict(color="#1e8449", width=4), hoverinfo="skip",
+                                   visible=shown, legendgroup="live"))
+        traces.append(go.Scatter3d(x=tip[:, 0], y=tip[:, 1], z=tip[:, 2], mode="markers", showlegend=False,
+                                   marker=dict(size=2, color="#1e8449", symbol="diamond"), hoverinfo="skip",
+                                   visible=shown, legendgroup="live"))
     fig = go.Figure(data=traces)
-    if groups:
-        frames, steps = [], []
+    if groups:   # the slider restyles the displaced blocks' coordinates (no frames, no timers)
+        which = list(range(first_moving, first_moving + len(groups)))
+        steps = []
         for f in STEPS:
-            name = f"{f:g}"
-            frames.append(go.Frame(data=moved_traces(f * amp), traces=list(range(first_moving, first_moving + len(groups))),
-                                   name=name))
-            steps.append(dict(method="animate", label=name,
-                              args=[[name], dict(mode="immediate", frame=dict(duration=0, redraw=True),
-                                                 transition=dict(duration=0))]))
-        fig.frames = frames
+            moved = moved_traces(f * amp)
+            steps.append(dict(method="restyle", label=f"{f:g}",
+                              args=[{"x": [t.x for t in moved], "y": [t.y for t in moved], "z": [t.z for t in moved]},
+                                    which]))
         fig.update_layout(sliders=[dict(active=STEPS.index(1.0), steps=steps, x=0.05, len=0.9,
                                         currentvalue=dict(prefix=f"amplification (1 = x {amp:.3g}): "))])
     fig.update_layout(title=title or s.name, scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y",
-                                                        zaxis_title="z"),
+                                                        zaxis_title="z",
+                                                        camera=dict(eye=dict(x=0.9, y=-1.6, z=0.9))),
                       margin=dict(l=0, r=0, t=40, b=0), legend=dict(x=0.0, y=0.95))
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.write_html(str(path), include_plotlyjs=True, full_html=True, include_mathjax=False,
+                   default_height="96vh", default_width="100%",
                    config=dict(displaylogo=False))
     return str(path)
