@@ -156,3 +156,23 @@ def test_view_is_self_contained_and_renders_in_headless_chromium(tmp_path):
     assert img.std() > 0.05                                   # not blank
     blue = (img[..., 2] > 0.6) & (img[..., 0] < 0.3)          # the macro-block's colour drawn by WebGL
     assert blue.sum() > 200
+
+
+def test_lamodel_build_prints_the_contacts_summary_of_a_3d_input(tmp_path):
+    import os
+    import sys
+    root = Path(__file__).resolve().parents[2]
+    env = dict(os.environ, PYTHONPATH=str(root))
+    good, bad = tmp_path / "stack.json", tmp_path / "bad.json"
+    good.write_text(json.dumps(stack_spec()))
+    spec = stack_spec()
+    spec["blocks"][3]["vertices"] = (np.asarray(spec["blocks"][3]["vertices"]) + [0.5, 0, 0]).tolist()
+    bad.write_text(json.dumps(spec))
+    run = [sys.executable, "-m", "lamodel.cli", "build"]
+    out = subprocess.run(run + [str(good)], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "8 blocks, 1 supports, 16 interfaces, 64 contact points, total interface area 16" in out.stdout
+    assert not (tmp_path / "stack.dat").exists()
+    out = subprocess.run(run + [str(bad)], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 2 and "overlap" in out.stderr and "Traceback" not in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1
