@@ -54,10 +54,12 @@ class Polyhedron:
 
     @property
     def lo(self):
+        """Lowest corner of the bounding box."""
         return self.vertices.min(axis=0)
 
     @property
     def hi(self):
+        """Highest corner of the bounding box."""
         return self.vertices.max(axis=0)
 
     def triangles(self) -> np.ndarray:

@@ -38,8 +38,9 @@ def rotation(axis, angle):
 
 
 def contact_set(s, scale=1.0):
+    """Sorted (pair, area in the base units) of the interfaces."""
     areas = interface_areas(s) / scale ** 2
-    return sorted((tuple(sorted((a, b))), round(float(x), 5)) for a, b, x in zip(s.iface_a, s.iface_b, areas))
+    return sorted((tuple(sorted((a, b))), float(x)) for a, b, x in zip(s.iface_a, s.iface_b, areas))
 
 
 def test_cube_stack_has_12_block_and_4_ground_interfaces_of_unit_area():
@@ -67,7 +68,10 @@ def test_contacts_invariant_under_rigid_motion_mirror_units_and_renumbering(rot,
         rot = rot @ np.diag([-1.0, 1.0, 1.0])
     spec = transformed(stack_spec(), rot, np.asarray(shift), scale, order=list(np.random.default_rng(1).permutation(9)))
     s = structure3d_from_spec(spec)
-    assert contact_set(s, scale) == contact_set(base)
+    got, want = contact_set(s, scale), contact_set(base)
+    assert [p for p, _ in got] == [p for p, _ in want]
+    # areas agree within the geometric tolerance (1e-6 of the size; overlays snap-rounded finer)
+    assert [x for _, x in got] == pytest.approx([x for _, x in want], rel=1e-5)
 
 
 def test_grid_points_add_interior_points():
