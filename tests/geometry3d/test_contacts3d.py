@@ -162,3 +162,15 @@ def test_an_open_mesh_is_refused(tmp_path):
     trimesh.Scene([ground, box]).export(path)
     with pytest.raises(InputError, match=r"block 'b\d'.*open"):
         read(path, supports_below=-0.5)
+
+
+@pytest.mark.parametrize("make", ["dome", "barrel_vault"])
+def test_curved_generators_keep_their_contacts_when_turned(make):
+    from lamodel.geometry import generators3d as G
+    spec = getattr(G, make)()
+    base = structure3d_from_spec(spec)
+    turned = structure3d_from_spec(transformed(spec, rotation([0.3, -1, 0.2], 2.0), np.array([5.0, 7.0, -3.0]),
+                                               order=list(np.random.default_rng(2).permutation(len(spec["blocks"])))))
+    got, want = contact_set(turned), contact_set(base)
+    assert [p for p, _ in got] == [p for p, _ in want]
+    assert [x for _, x in got] == pytest.approx([x for _, x in want], rel=1e-5)
