@@ -91,6 +91,13 @@ def summary_rows(s: Structure3D) -> list:
     return rows
 
 
+def write_summary3d(s: Structure3D, path, rows=()) -> str:
+    """Write summary.csv (key, value): :func:`summary_rows` then the caller's ``rows``."""
+    from ..io.files import atomic_write
+    df = pd.DataFrame(list(summary_rows(s)) + list(rows), columns=["key", "value"])
+    return atomic_write(path, lambda tmp: df.to_csv(tmp, index=False))
+
+
 def build_summary3d(path, **options) -> str | None:
     """The ``lamodel build`` line for a 3D input (None when ``path`` is a planar input);
     ``options`` as :func:`lamodel.io.read`."""

@@ -37,11 +37,16 @@ def compas_json(spec, with_support=True):
 
 
 def test_compas_assembly_reads_with_defaults(tmp_path):
+    from lamodel.output.tables3d import write_summary3d
     path = tmp_path / "stack.json"
     path.write_text(json.dumps(compas_json(stack_spec())))
     s = read(path)
     assert s.dimension == 3 and s.n_interfaces == 16 and s.supports == ["0"]
     assert s.meta["defaults"] == ["mu", "unit_weight", "live_load"] and s.meta["mu"] == 0.6
+    summary = pd.read_csv(write_summary3d(s, tmp_path / "summary.csv", [("alpha", 0.5)])).set_index("key")["value"]
+    assert summary["source"] == "COMPAS assembly" and float(summary["mu"]) == 0.6
+    assert summary["defaults_applied"] == "mu unit_weight live_load" and summary["live_load"] == "[1.0, 0.0, 0.0]"
+    assert int(summary["interfaces"]) == 16 and float(summary["alpha"]) == 0.5
     assert np.allclose(s.live, s.dead[:, [2, 1, 0]] * [-1, 0, 0])     # +x, equal to the weight
     path.write_text(json.dumps(compas_json(stack_spec(), with_support=False)))
     with pytest.raises(InputError, match="no block is a support"):
@@ -176,3 +181,21 @@ def test_lamodel_build_prints_the_contacts_summary_of_a_3d_input(tmp_path):
     out = subprocess.run(run + [str(bad)], capture_output=True, text=True, env=env, timeout=120)
     assert out.returncode == 2 and "overlap" in out.stderr and "Traceback" not in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1
+
+
+def test_lamodel_build_reads_a_mesh_with_its_options(tmp_path):
+    import os
+    import sys
+    import trimesh
+    root = Path(__file__).resolve().parents[2]
+    env = dict(os.environ, PYTHONPATH=str(root))
+    meshes = [trimesh.convex.convex_hull(np.asarray(b["vertices"])) for b in stack_spec()["blocks"]]
+    path = tmp_path / "stack.glb"
+    trimesh.Scene(meshes).export(path)
+    run = [sys.executable, "-m", "lamodel.cli", "build", str(path)]
+    out = subprocess.run(run + ["--supports-below", "-0.25", "--mu", "0.5", "--contact-points", "grid:2"],
+                         capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "8 blocks, 1 supports, 16 interfaces, 128 contact points" in out.stdout   # 4 corners + 4 grid points
+    out = subprocess.run(run, capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 2 and "no block is a support" in out.stderr
