@@ -3,10 +3,11 @@
 VENV   := .venv
 PY     := $(VENV)/bin/python
 DEBS   := coinor-libipopt-dev liblapack-dev libblas-dev libmumps-seq-dev pkg-config
+DEBS_TEST := chromium
 STAMP  := $(VENV)/.installed
 DEMO   := $(firstword $(wildcard instances/portal.dat) instances/wall33.dat)
 
-.PHONY: setup demo test docs debs clean
+.PHONY: setup demo test docs debs debs-test clean
 
 setup: debs $(STAMP)
 
@@ -28,7 +29,11 @@ $(STAMP): setup.cfg pyproject.toml
 demo: setup
 	$(PY) scripts/solve.py $(DEMO)
 
-test: setup
+# a real headless browser for the test of the 3D HTML view
+debs-test:
+	@$(MAKE) --no-print-directory debs DEBS="$(DEBS_TEST)"
+
+test: setup debs-test
 	$(PY) -m pytest -q
 
 # The documentation site (Sphinx, Markdown pages through MyST), warnings as errors; the API

@@ -566,11 +566,19 @@ def _build_arguments(p):
     p.add_argument("geometry", help="JSON geometry file (see lamodel.io.jsonspec)")
     p.add_argument("-o", "--output", help="output .dat file (default: next to the JSON, with .dat)")
     p.add_argument("--name", help="instance name (default: the JSON 'name' or the file stem)")
+    from .io.options3d import add_input_arguments
+    add_input_arguments(p)
 
 
 def _build(args, prog) -> int:
     from .io.datfile import write_dat
     from .io.jsonspec import structure_from_json
+    from .io.options3d import input_options
+    from .output.tables3d import build_summary3d
+
+    if (line := build_summary3d(args.geometry, **input_options(args))) is not None:  # 3D: contacts summary
+        print(line)
+        return EXIT_OK
 
     output = Path(args.output) if args.output else Path(args.geometry).with_suffix(".dat")
     structure = structure_from_json(args.geometry, name=args.name)

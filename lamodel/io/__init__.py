@@ -1,6 +1,8 @@
-"""Reading and writing structures: Pyomo .dat files and JSON polygon geometry.
+"""Reading and writing structures: Pyomo .dat files, JSON polygon geometry, and in 3D
+JSON polyhedra, COMPAS assemblies and meshes.
 
-:func:`read` takes either, by its extension; both give the same validated Structure.
+:func:`read` takes any of them, by its extension and content: a planar input gives a
+validated Structure, a 3D one a validated Structure3D.
 """
 from __future__ import annotations
 
@@ -9,8 +11,11 @@ from pathlib import Path
 from ..errors import InputError
 
 
-def read(path):
-    """A validated Structure from a .dat or a .json file (InputError, one line, otherwise)."""
+def read(path, **options):
+    """A validated Structure from a .dat or a 2D .json file, a Structure3D from a 3D .json
+    (lamodel or COMPAS) or a mesh (.obj, .ply, .stl, .gltf, .glb); InputError, one line,
+    otherwise. ``options`` go to the 3D readers (:mod:`lamodel.io.assemblies`: mu,
+    unit_weight, live_load, supports, supports_below, units, tolerance, contact_points)."""
     p = Path(path)
     ext = p.suffix.lower()
     if p.is_dir():
@@ -18,9 +23,18 @@ def read(path):
     if not p.is_file():
         raise InputError(f"{path}: no such file; expected a .dat instance or a .json geometry")
     if ext == ".json":
+        from .assemblies import read_3d_json
+        s3 = read_3d_json(p, **options)
+        if s3 is not None:
+            return s3
         from .jsonspec import structure_from_json
         return structure_from_json(path)
+    from .assemblies import MESH_SUFFIXES
+    if ext in MESH_SUFFIXES:
+        from .assemblies import read_mesh
+        return read_mesh(p, **options)
     if ext == ".dat":
         from .datfile import read_dat
         return read_dat(path)
-    raise InputError(f"{path}: unknown file type '{ext}'; expected .dat (Pyomo data) or .json (polygons)")
+    raise InputError(f"{path}: unknown file type '{ext}'; expected .dat (Pyomo data), .json (polygons, "
+                     "polyhedra, COMPAS assembly) or a mesh (.obj, .ply, .stl, .gltf, .glb)")

@@ -1,0 +1,250 @@
+"""JSON geometry of a block assembly in space: polyhedra in, a :class:`Structure3D` out.
+
+The 2D format (:mod:`lamodel.io.jsonspec`) with 3-component vertices, z up::
+
+    { "name": "stack", "dimension": 3,          # optional: inferred from [x, y, z] vertices
+      "mu": 0.6, "unit_weight": 1.0,            # weight per unit volume (default 1)
+      "live_load": [1, 0, 0],                   # live force per unit weight (default [1, 0, 0])
+      "units": {"length": "m", "force": "kN"},
+      "tolerance": 1e-6,                        # optional, relative to the structure's size
+      "contact_points": "vertices",             # or "grid:n" (adds interior points)
+      "blocks": [ {"id": "b1", "vertices": [[0,0,0], [1,0,0], ...],
+                   "faces": [[0, 3, 2, 1], ...],    # optional: default the convex hull
+                   "support": false, "dead": [fx,fy,fz], "live": [fx,fy,fz],
+                   "dead_m": [mx,my,mz], "live_m": [mx,my,mz], "mu": 0.5} ],
+      "loads": [ {"block": "b1", "at": [x,y,z], "force": [fx,fy,fz], "kind": "live"} ] }
+
+Faces are vertex loops ordered counter-clockwise seen from outside. The dead load of a
+block is ``unit_weight * volume`` along -z at its centroid; its live load is
+``live_load * unit_weight * volume``. Point loads add their force and their moment about the
+centroid; when the file gives live point loads but no ``live_load``, alpha multiplies only
+them. A contact takes the smaller ``mu`` of its two bodies.
+
+Readers of other formats (COMPAS assemblies, meshes) produce this same spec, with the
+defaults they applied listed under ``"meta"``; :func:`structure3d_from_spec` builds all of them.
+"""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from ..errors import InputError
+from ..geometry.interfaces3d import find_interfaces, interface_points, parse_contact_points
+from ..geometry.hulls import convex_polyhedra
+from ..geometry.polyhedra import polyhedron
+from ..structure3d import Structure3D, tangent_frame
+from .jsonspec import _number, _units, _warn_unknown
+
+#: Geometric tolerance relative to the structure's size (diagonal of its bounding box):
+#: loose enough for CAD files written in single precision.
+DEFAULT_TOLERANCE_3D = 1e-6
+
+TOP_FIELDS_3D = ("name", "description", "dimension", "mu", "unit_weight", "live_load", "tolerance", "blocks",
+                 "loads", "units", "contact_points", "meta")
+BODY_FIELDS_3D = ("id", "vertices", "faces", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
+
+
+def is_3d_spec(spec) -> bool:
+    """True for a 3D lamodel spec: ``"dimension": 3`` or a first vertex with 3 coordinates."""
+    if not isinstance(spec, dict):
+        return False
+    if spec.get("dimension") is not None:
+        return spec.get("dimension") == 3
+    try:
+        return len(spec["blocks"][0]["vertices"][0]) == 3
+    except (KeyError, IndexError, TypeError):
+        return False
+
+
+def _vector3(value, where, what):
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise InputError(f"{where}: {what} is {json.dumps(value)[:60]}; expected [x, y, z] numbers")
+    return np.array([_number(v, where, what) for v in value])
+
+
+def _bodies(spec, where, mu_all):
+    bodies = spec.get("blocks")
+    if not isinstance(bodies, list) or not bodies:
+        raise InputError(f"{where}: 'blocks' is missing or empty; expected a list of blocks with 'id' and 'vertices'")
+    seen, out, unknown = {}, [], set()
+    for pos, body in enumerate(bodies):
+        if not isinstance(body, dict):
+            raise InputError(f"{where}: blocks[{pos}] is {json.dumps(body)[:40]}; expected an object with 'id' and 'vertices'")
+        if body.get("id") is None or isinstance(body["id"], (dict, list, bool)):
+            raise InputError(f"{where}: blocks[{pos}] has no valid 'id'; expected a string or integer id")
+        bid = str(body["id"])
+        if not bid or any(c.isspace() for c in bid):
+            raise InputError(f"{where}: blocks[{pos}] has the id {json.dumps(body['id'])}; expected a non-empty "
+                             "id without spaces")
+        at = f"{where}: block '{bid}'"
+        if bid in seen:
+            raise InputError(f"{at} is declared twice (blocks[{seen[bid]}] and blocks[{pos}]); expected unique ids")
+        seen[bid] = pos
+        unknown |= set(body) - set(BODY_FIELDS_3D)
+        if "vertices" not in body:
+            raise InputError(f"{at} has no 'vertices'; expected a list of [x, y, z] corners")
+        support = body.get("support", False)
+        if not isinstance(support, bool):
+            raise InputError(f"{at}: 'support' is {json.dumps(support)}; expected true or false")
+        if "mu" in body:
+            mu = _number(body["mu"], at, "'mu'", 0.0)
+        elif mu_all is None:
+            raise InputError(f"{at} has no friction coefficient; expected a top-level 'mu' or a 'mu' on every block")
+        else:
+            mu = mu_all
+        over = {k: _vector3(body[k], at, f"'{k}'") for k in ("dead", "live", "dead_m", "live_m")
+                if k in body and not support}
+        out.append((bid, body["vertices"], body.get("faces"), support, mu, over))
+    if unknown:
+        _warn_unknown(where, unknown, BODY_FIELDS_3D, "block")
+    return out
+
+
+def _check_connected(ids, is_support, interfaces, where):
+    """Every block touches something, and every group of touching blocks reaches a support."""
+    n = len(ids)
+    a = np.array([f.a for f in interfaces], dtype=int)
+    b = np.array([f.b for f in interfaces], dtype=int)
+    touched = np.zeros(n, dtype=bool)
+    touched[a] = touched[b] = True
+    free = np.flatnonzero(~touched & ~is_support)
+    if free.size:
+        raise InputError(f"{where}: block '{ids[free[0]]}' touches nothing (a free body); "
+                         "expected every block to share a face with a block or a support")
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    held = np.isin(label, label[is_support])
+    loose = np.flatnonzero(~held & ~is_support)
+    if loose.size:
+        raise InputError(f"{where}: block '{ids[loose[0]]}' is not connected to any support (its group of blocks "
+                         "floats); expected every block to rest, through others, on a support")
+
+
+def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None = None,
+                          tolerance: float | None = None, contact_points=None,
+                          split_nonplanar: bool = False) -> Structure3D:
+    """Build a validated :class:`Structure3D` from a 3D spec dict (see the module docs).
+
+    ``tolerance`` (relative to the size) and ``contact_points`` override the spec's fields;
+    ``split_nonplanar`` splits warped faces into triangles (CAD inputs) instead of refusing them.
+    Raises InputError, one line naming the block, for anything that is not a block assembly.
+    """
+    where = where or f"geometry '{spec.get('name', '<dict>')}'"
+    _warn_unknown(where, spec.keys(), TOP_FIELDS_3D, "top-level")
+    name = str(name if name is not None else spec.get("name") or "structure")
+    mu_all = _number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
+    unit_weight = _number(spec.get("unit_weight", 1.0), where, "'unit_weight'", 0.0)
+    live_load = _vector3(spec.get("live_load", [1.0, 0.0, 0.0]), where, "'live_load'")
+    rel_tol = _number(tolerance if tolerance is not None else spec.get("tolerance", DEFAULT_TOLERANCE_3D),
+                      where, "'tolerance'", 0.0)
+    grid = parse_contact_points(contact_points if contact_points is not None else spec.get("contact_points"))
+    bodies = _bodies(spec, where, mu_all)
+    ids = [b[0] for b in bodies]
+    is_support = np.array([b[3] for b in bodies], dtype=bool)
+    if not is_support.any():
+        raise InputError(f"{where}: no block is a support; expected at least one body with \"support\": true")
+    if is_support.all():
+        raise InputError(f"{where}: every body is a support; expected at least one movable block")
+    try:
+        allv = np.vstack([np.asarray(b[1], dtype=float).reshape(-1, 3) for b in bodies])
+    except (TypeError, ValueError):
+        bad = next(b[0] for b in bodies if not _is_points(b[1]))
+        raise InputError(f"{where}: block '{bad}': 'vertices' is not a list of [x, y, z] points; "
+                         "expected [[x1, y1, z1], ...]") from None
+    finite = allv[np.isfinite(allv).all(axis=1)]
+    size = float(np.linalg.norm(finite.max(axis=0) - finite.min(axis=0))) if len(finite) else 1.0
+    tol = rel_tol * (size or 1.0)
+    try:
+        bulk = convex_polyhedra([b[0] for b in bodies], [b[1] if b[2] is None else [] for b in bodies], tol)
+        polys = [p or polyhedron(b[0], b[1], b[2], tol, split_nonplanar) for p, b in zip(bulk, bodies)]
+        interfaces = find_interfaces(polys, is_support, tol)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    _check_connected(ids, is_support, interfaces, where)
+
+    moving = np.flatnonzero(~is_support)
+    volume = np.array([polys[j].volume for j in moving])
+    weight = unit_weight * volume
+    dead = np.c_[np.zeros((len(moving), 2)), -weight]
+    live = weight[:, None] * live_load[None, :]
+    if "live_load" not in spec and _writes_live(spec):
+        live[:] = 0.0  # alpha multiplies only the live loads the file writes
+    dead_m, live_m = np.zeros((len(moving), 3)), np.zeros((len(moving), 3))
+    rows = {"dead": dead, "live": live, "dead_m": dead_m, "live_m": live_m}
+    row = {int(p): r for r, p in enumerate(moving)}
+    for pos, body in enumerate(bodies):
+        for key, value in body[5].items():
+            rows[key][row[pos]] = value
+    centroid = np.array([polys[j].centroid for j in moving])
+    _point_loads(spec, where, {ids[j]: r for r, j in enumerate(moving)}, centroid, rows)
+
+    pts = [interface_points(f, grid) for f in interfaces]
+    count = np.array([len(p) for p in pts], dtype=int)
+    normal = np.repeat(np.array([f.normal for f in interfaces]).reshape(-1, 3), count, axis=0)
+    t1, t2 = tangent_frame(normal)
+    mus = np.array([b[4] for b in bodies])
+    iface_mu = np.array([min(mus[f.a], mus[f.b]) for f in interfaces])
+    meta = dict(spec.get("meta") or {})
+    meta.setdefault("source", "lamodel JSON")
+    meta.update(unit_weight=unit_weight, mu=mu_all, live_load=live_load.tolist(), tolerance=rel_tol,
+                contact_points="vertices" if not grid else f"grid:{grid}")
+    s = Structure3D(
+        name=name, blocks=[ids[j] for j in moving], centroid=centroid, dead=dead, live=live,
+        supports=[ids[j] for j in np.flatnonzero(is_support)],
+        interfaces=[f"i{k + 1}" for k in range(len(interfaces))],
+        iface_a=[ids[f.a] for f in interfaces], iface_b=[ids[f.b] for f in interfaces],
+        iface_polygon=[f.polygon for f in interfaces],
+        point_interface=np.repeat(np.arange(len(interfaces)), count),
+        point=np.vstack(pts) if pts else np.zeros((0, 3)), normal=normal, tangent1=t1, tangent2=t2,
+        mu=np.repeat(iface_mu, count), dead_m=dead_m, live_m=live_m, volume=volume,
+        polyhedra={p.id: (p.vertices, p.faces) for p in polys}, units=_units(spec, where), meta=meta)
+    try:
+        return s.validate()
+    except InputError as exc:  # name the file, not the structure ("structure 'x': ...")
+        raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
+
+
+def _is_points(v) -> bool:
+    try:
+        return np.asarray(v, dtype=float).ndim == 2 and np.asarray(v).shape[1] == 3
+    except (TypeError, ValueError):
+        return False
+
+
+def _writes_live(spec) -> bool:
+    loads = spec.get("loads")
+    return isinstance(loads, list) and any(isinstance(x, dict) and x.get("kind", "live") == "live" for x in loads)
+
+
+def _point_loads(spec, where, row, centroid, rows):
+    """Point loads: the force and its moment about the block's centroid into dead or live."""
+    loads = spec.get("loads", [])
+    if not isinstance(loads, list):
+        raise InputError(f"{where}: 'loads' is {json.dumps(loads)[:40]}; expected a list of point loads")
+    for k, load in enumerate(loads):
+        at = f"{where}: loads[{k}]"
+        if not isinstance(load, dict):
+            raise InputError(f"{at} is {json.dumps(load)[:40]}; expected an object with 'block', 'at', 'force'")
+        _warn_unknown(at, load.keys(), ("block", "at", "force", "kind", "case"), "load")
+        block = str(load.get("block"))
+        if block not in row:
+            raise InputError(f"{at}: block '{block}' is not a movable block; expected the id of a block")
+        if load.get("case") is not None:
+            raise InputError(f"{at}: load cases are not available for 3D structures; expected loads without 'case'")
+        kind = load.get("kind", "live")
+        if kind not in ("live", "dead"):
+            raise InputError(f"{at}: 'kind' is {json.dumps(kind)}; expected \"live\" or \"dead\"")
+        point, force = _vector3(load.get("at"), at, "'at'"), _vector3(load.get("force"), at, "'force'")
+        r = row[block]
+        rows[kind][r] += force
+        rows[kind + "_m"][r] += np.cross(point - centroid[r], force)
+
+
+def read_json3d(path_or_spec, name=None, **options) -> Structure3D:
+    """A Structure3D from a 3D lamodel JSON file or dict (options: tolerance, contact_points)."""
+    from .jsonspec import _load_spec
+    spec, where = _load_spec(path_or_spec)
+    return structure3d_from_spec(spec, where, name=name, **options)

@@ -1,0 +1,119 @@
+"""Tables of a 3D structure and its state: blocks.csv, contacts.csv, the contacts summary.
+
+Columns (the conventions of :mod:`lamodel.structure3d`):
+
+* ``blocks.csv``: block, x, y, z (centroid), dead_x, dead_y, dead_z, live_x, live_y,
+  live_z, dead_mx, dead_my, dead_mz, live_mx, live_my, live_mz (moments of the loads about
+  the centroid), volume, ux, uy, uz, rx, ry, rz (motion at the centroid).
+* ``contacts.csv``: one row per contact point: interface, block_a, block_b, x, y, z, nx,
+  ny, nz (from a to b), t1x, t1y, t1z, t2x, t2y, t2z, mu, N, T1, T2, mode. The force
+  ``N n + T1 t1 + T2 t2`` acts on block_a at the point, its opposite on block_b.
+
+With these and alpha every block's equilibrium can be rebuilt from the files alone.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .. import __version__
+from ..structure3d import Structure3D
+
+
+def interface_areas(s: Structure3D) -> np.ndarray:
+    """Area of each interface polygon (Newell's formula on its vertices)."""
+    out = []
+    for p in s.iface_polygon:
+        out.append(0.5 * np.linalg.norm(np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)) if len(p) >= 3 else 0.0)
+    return np.array(out)
+
+
+def blocks_table(s: Structure3D, motions=None) -> pd.DataFrame:
+    """One row per block (see the module docs); ``motions`` (nb, 6) or None (zeros)."""
+    u = np.zeros((s.n_blocks, 6)) if motions is None else np.asarray(motions, dtype=float).reshape(s.n_blocks, 6)
+    cols = {"block": s.blocks}
+    for name, arr in (("", s.centroid), ("dead_", s.dead), ("live_", s.live)):
+        for k, c in enumerate("xyz"):
+            cols[f"{name}{c}"] = arr[:, k]
+    for name, arr in (("dead_m", s.dead_m), ("live_m", s.live_m)):
+        for k, c in enumerate("xyz"):
+            cols[f"{name}{c}"] = arr[:, k]
+    cols["volume"] = s.volume
+    for k, c in enumerate(("ux", "uy", "uz", "rx", "ry", "rz")):
+        cols[c] = u[:, k]
+    return pd.DataFrame(cols)
+
+
+def contacts_table(s: Structure3D, forces=None, modes=None) -> pd.DataFrame:
+    """One row per contact point; ``forces`` (np, 3) of (N, T1, T2) or None (zeros),
+    ``modes`` (np,) strings or None (empty)."""
+    f = np.zeros((s.n_points, 3)) if forces is None else np.asarray(forces, dtype=float).reshape(s.n_points, 3)
+    cols = {"interface": [s.interfaces[i] for i in s.point_interface],
+            "block_a": [s.iface_a[i] for i in s.point_interface],
+            "block_b": [s.iface_b[i] for i in s.point_interface]}
+    for name, arr in (("", s.point), ("n", s.normal), ("t1", s.tangent1), ("t2", s.tangent2)):
+        for k, c in enumerate("xyz"):
+            cols[f"{name}{c}"] = arr[:, k]
+    cols["mu"] = s.mu
+    cols["N"], cols["T1"], cols["T2"] = f[:, 0], f[:, 1], f[:, 2]
+    cols["mode"] = [""] * s.n_points if modes is None else list(modes)
+    return pd.DataFrame(cols)
+
+
+def write_tables3d(s: Structure3D, folder, motions=None, forces=None, modes=None) -> list:
+    """Write blocks.csv and contacts.csv into ``folder`` (atomically); returns their paths."""
+    from pathlib import Path
+
+    from ..io.files import atomic_write
+    out = []
+    for name, df in (("blocks.csv", blocks_table(s, motions)), ("contacts.csv", contacts_table(s, forces, modes))):
+        path = Path(folder) / name
+        atomic_write(path, lambda tmp, df=df: df.to_csv(tmp, index=False, float_format="%.12g"))
+        out.append(str(path))
+    return out
+
+
+def contacts_summary(s: Structure3D) -> dict:
+    """Blocks, supports, interfaces, contact points and total interface area of a structure."""
+    return {"blocks": s.n_blocks, "supports": len(s.supports), "interfaces": s.n_interfaces,
+            "points": s.n_points, "area": float(interface_areas(s).sum())}
+
+
+def summary_rows(s: Structure3D) -> list:
+    """(key, value) rows for summary.csv: the contacts summary and the input's defaults."""
+    rows = [("lamodel", __version__), ("structure", s.name), ("dimension", 3)]
+    rows += list(contacts_summary(s).items())
+    for key in ("source", "unit_weight", "mu", "live_load", "tolerance", "contact_points"):
+        if key in s.meta:
+            rows.append((key, s.meta[key]))
+    if s.meta.get("defaults"):
+        rows.append(("defaults_applied", " ".join(s.meta["defaults"])))
+    return rows
+
+
+def write_summary3d(s: Structure3D, path, rows=()) -> str:
+    """Write summary.csv (key, value): :func:`summary_rows` then the caller's ``rows``."""
+    from ..io.files import atomic_write
+    df = pd.DataFrame(list(summary_rows(s)) + list(rows), columns=["key", "value"])
+    return atomic_write(path, lambda tmp: df.to_csv(tmp, index=False))
+
+
+def build_summary3d(path, **options) -> str | None:
+    """The ``lamodel build`` line for a 3D input (None when ``path`` is a planar input);
+    ``options`` as :func:`lamodel.io.read`."""
+    from pathlib import Path
+
+    from ..io import read
+    from ..io.assemblies import MESH_SUFFIXES, read_3d_json
+    p = Path(path)
+    if p.suffix.lower() in MESH_SUFFIXES:
+        s = read(p, **options)
+    elif p.suffix.lower() == ".json" and p.is_file():
+        s = read_3d_json(p, **options)
+        if s is None:
+            return None
+    else:
+        return None
+    c = contacts_summary(s)
+    return (f"{path}: {c['blocks']} blocks, {c['supports']} supports, {c['interfaces']} interfaces, "
+            f"{c['points']} contact points, total interface area {c['area']:.6g}")

@@ -1,0 +1,117 @@
+"""An interactive view of a 3D structure and its mechanism: ONE self-contained HTML file
+(plotly, with its JavaScript embedded: it opens offline, with no network).
+
+The reader turns and zooms the structure; the blocks at rest are faint, the moving blocks
+drawn displaced and coloured by macro-block (blocks moving together); a slider sets the
+amplification (0 = at rest). Contact points whose mode is opening or sliding are marked;
+live loads are arrows from the block centroids.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..structure3d import Structure3D
+from .motion3d import check_motions, default_amplification, displaced, macro_blocks
+
+_PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"]
+_MODE_COLOURS = {"open": "#d62728", "opening": "#d62728", "slide": "#1f5fbf", "sliding": "#1f5fbf"}
+STEPS = (0.0, 0.25, 0.5, 1.0, 1.5, 2.0)
+
+
+def _mesh(vertex_lists, face_lists):
+    """x, y, z, i, j, k of one Mesh3d from several polyhedra (faces fanned into triangles)."""
+    xyz, tri, base = [], [], 0
+    for v, faces in zip(vertex_lists, face_lists):
+        v = np.asarray(v, dtype=float)
+        xyz.append(v)
+        tri += [(base + f[0], base + f[t], base + f[t + 1]) for f in faces for t in range(1, len(f) - 1)]
+        base += len(v)
+    xyz = np.vstack(xyz) if xyz else np.zeros((0, 3))
+    tri = np.array(tri, dtype=int).reshape(-1, 3)
+    return xyz, tri
+
+
+def _mesh_trace(go, xyz, tri, colour, opacity, name):
+    return go.Mesh3d(x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2], i=tri[:, 0], j=tri[:, 1], k=tri[:, 2],
+                     color=colour, opacity=opacity, flatshading=True, name=name, showlegend=True,
+                     lighting=dict(ambient=0.55, diffuse=0.8, specular=0.1), hoverinfo="name")
+
+
+def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: float | None = None,
+                 title: str | None = None) -> str:
+    """Write the interactive view of ``s`` (and of the mechanism ``motions`` (nb, 6), with
+    contact-point ``modes`` (np,) such as "open", "slide") to the HTML file ``path``."""
+    import plotly.graph_objects as go
+
+    u = check_motions(s, motions)
+    amp = default_amplification(s, u) if amplification is None else float(amplification)
+    label = macro_blocks(s, u)
+    idx = s.block_index()
+    traces = []
+    sup = [b for b in s.polyhedra if b not in idx]
+    xyz, tri = _mesh([s.polyhedra[b][0] for b in sup], [s.polyhedra[b][1] for b in sup])
+    traces.append(_mesh_trace(go, xyz, tri, "#707070", 1.0, "supports"))
+    still = [b for b in s.blocks if label[idx[b]] < 0]
+    moving = [b for b in s.blocks if label[idx[b]] >= 0]
+    if still:
+        xyz, tri = _mesh([s.polyhedra[b][0] for b in still], [s.polyhedra[b][1] for b in still])
+        traces.append(_mesh_trace(go, xyz, tri, "#e8dcc8", 1.0, "blocks at rest"))
+    if moving:
+        xyz, tri = _mesh([s.polyhedra[b][0] for b in moving], [s.polyhedra[b][1] for b in moving])
+        traces.append(_mesh_trace(go, xyz, tri, "#cccccc", 0.25, "moving blocks, at rest"))
+    groups = sorted({int(label[idx[b]]) for b in moving})
+    first_moving = len(traces)
+
+    def moved_traces(a):
+        out = []
+        for g in groups:
+            members = [b for b in moving if label[idx[b]] == g]
+            verts = [displaced(s.polyhedra[b][0], s.centroid[idx[b]], u[idx[b]], a) for b in members]
+            xyz, tri = _mesh(verts, [s.polyhedra[b][1] for b in members])
+            out.append(_mesh_trace(go, xyz, tri, _PALETTE[g % len(_PALETTE)], 1.0,
+                                   f"macro-block {g + 1} ({len(members)} blocks)"))
+        return out
+
+    traces += moved_traces(amp)
+    if modes is not None:
+        modes = np.asarray(modes).astype(str)
+        for mode, colour in _MODE_COLOURS.items():
+            hit = modes == mode
+            if hit.any():
+                p = s.point[hit]
+                traces.append(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers", name=f"{mode} contacts",
+                                           marker=dict(size=3, color=colour)))
+    live = np.linalg.norm(s.live, axis=1)
+    if live.max() > 0:   # arrows: a shaft from the centroid, a dot at the head (many: off, in the legend)
+        shown = True if s.n_blocks <= 60 else "legendonly"
+        tip = s.centroid + s.live * (0.06 * s.size() / live.max())
+        seg = np.full((3 * s.n_blocks, 3), np.nan)
+        seg[0::3], seg[1::3] = s.centroid, tip
+        traces.append(go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2], mode="lines", name="live loads",
+                                   line=dict(color="#1e8449", width=4), hoverinfo="skip",
+                                   visible=shown, legendgroup="live"))
+        traces.append(go.Scatter3d(x=tip[:, 0], y=tip[:, 1], z=tip[:, 2], mode="markers", showlegend=False,
+                                   marker=dict(size=2, color="#1e8449", symbol="diamond"), hoverinfo="skip",
+                                   visible=shown, legendgroup="live"))
+    fig = go.Figure(data=traces)
+    if groups:   # the slider restyles the displaced blocks' coordinates (no frames, no timers)
+        which = list(range(first_moving, first_moving + len(groups)))
+        steps = []
+        for f in STEPS:
+            moved = moved_traces(f * amp)
+            steps.append(dict(method="restyle", label=f"{f:g}",
+                              args=[{"x": [t.x for t in moved], "y": [t.y for t in moved], "z": [t.z for t in moved]},
+                                    which]))
+        fig.update_layout(sliders=[dict(active=STEPS.index(1.0), steps=steps, x=0.05, len=0.9,
+                                        currentvalue=dict(prefix=f"amplification (1 = x {amp:.3g}): "))])
+    fig.update_layout(title=title or s.name, scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y",
+                                                        zaxis_title="z",
+                                                        camera=dict(eye=dict(x=0.9, y=-1.6, z=0.9))),
+                      margin=dict(l=0, r=0, t=40, b=0), legend=dict(x=0.0, y=0.95))
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    fig.write_html(str(path), include_plotlyjs=True, full_html=True, include_mathjax=False,
+                   default_height="96vh", default_width="100%",
+                   config=dict(displaylogo=False))
+    return str(path)
