@@ -1,0 +1,345 @@
+"""The certified search in space: the seed's method on the Coulomb cone (eq. 5 in 3D).
+
+The steps have the shape of the planar engine's (:mod:`lamodel.search.engine`), with conic
+programs (Clarabel, :mod:`.cone`) where the planar one has LPs:
+
+* **statics**: max alpha over S (the associative bound), or min ``alpha + rho w^T s_f`` over
+  S (the gap step), or min alpha with the flowing points held (certification);
+* **mechanism**: the fictitious cohesive system for cohesions ``c = -mu N`` (max alpha with
+  ``||T|| <= c``); its equilibrium duals are the mechanism of least alpha_K for that N;
+* **gap**: for a mechanism with strains q, ``alpha_K(N) - alpha = w(q)^T s_f >= 0`` is linear
+  in the statics (:func:`lamodel.formulation.space.gap_weights`);
+* **certify**: the points the mechanism opens or slides are held, least alpha over S; then
+  exact on fixed cones with HiGHS and re-checked (:mod:`.certify3d`), in the non-dimensional
+  units and again in the user's.
+
+Two methods run from the associative statics: the gap alternation (rho 1e3 then 1e4) and
+the successive cone method (Portioli et al.; Wang & Beyer: the friction capacity of each
+point fixed at mu times its previous normal force, relaxed, at most 10 cone programs), each
+raw answer certified. :func:`solve3d` keeps the least certified alpha.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..formulation.space import Formulation3D, scaled, scales
+from ..structure3d import Structure3D
+from .certify3d import CollapseState3D, exact_state, passes, project_mechanism, residuals, statics_lp
+from .cone import ConePrograms
+
+#: rho ladder of the gap step (as the planar engine's main ladder).
+RHO_MAIN = (1e3, 1e4)
+#: A gap below GAP_CERTIFY * max(1, alpha) is worth a certification.
+GAP_CERTIFY = 1e-5
+#: Thresholds (fractions of the largest strain) above which a conic mechanism's point
+#: counts as opening or sliding, tried in turn: an interior-point answer is exact to ~1e-8.
+FLOW_TOLS = (1e-6, 1e-4, 1e-3, 1e-2)
+#: Successive cone method: relaxation of the friction capacities and the most cone programs.
+SUCCESSIVE_RELAXATION = 0.5
+SUCCESSIVE_STEPS = 10
+METHODS = ("gap", "successive")
+
+
+@dataclass
+class Result3D:
+    """Outcome of :func:`solve3d`; forces and motions in the user's units."""
+
+    status: str                      # 'certified', 'unstable', 'no collapse', 'none certified'
+    state: CollapseState3D | None
+    associative: float
+    message: str = ""
+    first_alpha: float = np.nan
+    first_time: float = np.nan
+    associative_time: float = np.nan
+    seconds: float = 0.0
+    history: list = field(default_factory=list)   # (seconds, alpha, source) of each improvement
+    methods: dict = field(default_factory=dict)   # method -> {"raw": alpha, "certified": alpha, "seconds": s}
+    n_cone: int = 0
+    n_lp: int = 0
+
+    @property
+    def alpha(self) -> float:
+        return np.nan if self.state is None else self.state.alpha
+
+    @property
+    def N(self):
+        return None if self.state is None else self.state.N
+
+    @property
+    def T1(self):
+        return None if self.state is None else self.state.T1
+
+    @property
+    def T2(self):
+        return None if self.state is None else self.state.T2
+
+    @property
+    def motions(self):
+        """(nb, 6) block motions at the centroids (fbar^T u = 1)."""
+        return None if self.state is None else self.state.motions
+
+    @property
+    def modes(self):
+        return None if self.state is None else self.state.modes
+
+    @property
+    def path(self) -> str:
+        """How the reported state was found and certified."""
+        return "" if self.state is None else self.state.source
+
+
+class ConeSearch:
+    """The 3D search on one structure (non-dimensional inside); see the module doc."""
+
+    def __init__(self, structure: Structure3D, time_limit: float | None = None, verbose: bool = False,
+                 threads: int = 1):
+        self.user = structure
+        self.t0 = time.perf_counter()
+        self.end = None if time_limit is None else self.t0 + float(time_limit)
+        self.verbose = verbose
+        self.F, self.L = scales(structure)
+        self.form = Formulation3D.of(scaled(structure, self.F, self.L))
+        self.form_user = Formulation3D.of(structure)
+        self.cone = ConePrograms(self.form, threads)
+        self.np = self.form.np
+        self.mu = self.form.mu
+        self.best: CollapseState3D | None = None       # scaled units
+        self.best_user: CollapseState3D | None = None
+        self.first = None
+        self.history = []
+        self.n_lp = 0
+        self._certified = {}
+
+    # --------------------------------------------------------------- bookkeeping
+    def elapsed(self) -> float:
+        return time.perf_counter() - self.t0
+
+    def left(self):
+        return None if self.end is None else max(self.end - time.perf_counter(), 1e-3)
+
+    def expired(self) -> bool:
+        return self.end is not None and time.perf_counter() >= self.end
+
+    def _log(self, msg):
+        if self.verbose:
+            print(f"{self.elapsed():8.2f} {msg}", flush=True)
+
+    # --------------------------------------------------------------- the pieces
+    def N_of(self, x):
+        return x[:self.np]
+
+    def statics(self, w=None, **held):
+        """min alpha + w^T s_f over S with points held (a ConeResult)."""
+        return self.cone.statics(w, time_limit=self.left(), **held)
+
+    def mechanism(self, N):
+        """The cohesive program for c = -mu N: (result, strains q of its mechanism)."""
+        res = self.cone.cohesive(-self.mu * N, time_limit=self.left())
+        if not res.ok or res.u is None:
+            return res, None
+        return res, self.form.strains(res.u)
+
+    def gap(self, q, x) -> float:
+        return float(self.form.gap_weights(self._clean(q)) @ x[:3 * self.np])
+
+    def _clean(self, q):
+        q = q.copy()
+        q[:self.np] = np.maximum(q[:self.np], 0.0)  # openings of a conic mechanism are >= 0 up to its tolerance
+        return q
+
+    # ------------------------------------------------------------- certification
+    def certify(self, u, source):
+        """The points the mechanism u opens or slides held, least alpha over S, then exact
+        (see the module doc). Tries the thresholds FLOW_TOLS in turn; the first certified
+        state (or None)."""
+        n = self.np
+        q = self.form.strains(u)
+        U = np.abs(q).max()
+        if not U > 0:
+            return None
+        for tol in FLOW_TOLS:
+            qn, slip = q[:n], np.hypot(q[n:2 * n], q[2 * n:])
+            opening = qn > tol * U
+            sliding = (slip > tol * U) & ~opening
+            # the slips of a conic answer are exact to its tolerance only; directions that
+            # no rigid motion makes can make the held statics infeasible (four points of one
+            # face sliding in directions 1e-8 apart): the nearest exact motion gives them
+            exact = project_mechanism(self.form, u, ~(opening | sliding), sliding)
+            if exact is None:
+                continue
+            qe = self.form.strains(exact)
+            slip_e = np.hypot(qe[n:2 * n], qe[2 * n:])
+            if np.any(qe[:n][opening] <= 0) or np.any(slip_e[sliding] <= 0):
+                continue
+            sdir = np.column_stack([qe[n:2 * n], qe[2 * n:]]) / np.where(slip_e > 0, slip_e, 1.0)[:, None]
+            key = (opening.tobytes(), sliding.tobytes(), np.round(sdir[sliding], 6).tobytes())
+            if key in self._certified:
+                st = self._certified[key]
+            else:
+                st = self._certify(opening, sliding, sdir, exact, source)
+                self._certified[key] = st
+            if st is not None:
+                return st
+        return None
+
+    def _certify(self, opening, sliding, sdir, u, source):
+        if self.expired():
+            return None
+        # the least alpha with the points held, on the cone (Clarabel); its forces orient
+        # the stuck points' pyramids in the exact LP (without it: the LP alone)
+        res = self.statics(opening=opening, sliding=sliding, slide_dir=sdir)
+        n = self.np
+        ref = np.column_stack([res.x[n:2 * n], res.x[2 * n:3 * n]]) if res.ok else None
+        self.n_lp += 1
+        x = statics_lp(self.form, opening, sliding, sdir, ref)
+        for cand, tag in ((x, "lp"), (res.x if res.ok else None, "cone")):
+            if cand is None:
+                continue
+            self.n_lp += 1
+            st = exact_state(self.form, cand, u, f"{source}+certify-{tag}")
+            if st is not None and self._record(st):
+                return st
+        return None
+
+    def _record(self, st: CollapseState3D) -> bool:
+        """Keep a certified state (scaled units) if it passes in the user's units too."""
+        user = self.to_user(st)
+        if not passes(user.residual):
+            self._log(f"  rejected alpha {st.alpha:.7f} in the user's units")
+            return False
+        if self.best is None or st.alpha < self.best.alpha - 1e-12 * max(1.0, st.alpha):
+            self.best, self.best_user = st, user
+            t = self.elapsed()
+            if self.first is None:
+                self.first = (st.alpha, t)
+            self.history.append((t, st.alpha, st.source))
+            self._log(f"  certified alpha {st.alpha:.7f}  {st.source}")
+        return True
+
+    def to_user(self, st: CollapseState3D) -> CollapseState3D:
+        """A scaled state in the user's units (fbar^T u = 1 there), re-checked there."""
+        F, L = self.F, self.L
+        u = st.u.reshape(-1, 6).copy()
+        u[:, :3] *= L
+        u = u.ravel() / (F * L)
+        q = st.q * L / (F * L)
+        out = CollapseState3D(alpha=st.alpha, N=st.N * F, T1=st.T1 * F, T2=st.T2 * F, u=u, q=q, source=st.source)
+        out.residual = residuals(self.form_user, out.N, out.T1, out.T2, out.alpha, out.u, out.q)
+        return out
+
+    # -------------------------------------------------------------------- methods
+    def associative(self):
+        return self.cone.associative(time_limit=self.left())
+
+    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=60):
+        """Mechanism step / gap step from the statics x until alpha + rho gap stops falling;
+        certifies whenever the gap is small. Returns (best certified state or None, last x)."""
+        best = None
+        for rho in rhos:
+            obj_prev = np.inf
+            for _ in range(max_steps):
+                if self.expired():
+                    return best, x
+                alpha = float(x[-1])
+                res, q = self.mechanism(self.N_of(x))
+                if q is None:
+                    break
+                gap = self.gap(q, x)
+                self._log(f"  {source} rho {rho:g} alpha {alpha:.7f} alpha_as {res.alpha:.7f} gap {gap:.2e}")
+                if gap <= GAP_CERTIFY * max(1.0, alpha):
+                    st = self.certify(res.u, source)
+                    if st is not None and (best is None or st.alpha < best.alpha):
+                        best = st
+                obj = alpha + rho * gap
+                if obj >= obj_prev - 1e-9 * max(1.0, abs(obj_prev)):
+                    break
+                obj_prev = obj
+                nxt = self.statics(w=rho * self.form.gap_weights(self._clean(q)))
+                if not nxt.ok:
+                    break
+                x = nxt.x
+        return best, x
+
+    def successive(self, x, steps=SUCCESSIVE_STEPS, relax=SUCCESSIVE_RELAXATION, source="successive"):
+        """The successive cone method from the statics x: cohesions c = -mu N fixed from the
+        previous normal forces (relaxed), one cohesive cone program a step; every step's
+        mechanism certified. Returns (best certified state or None, last raw alpha)."""
+        best, raw = None, np.nan
+        c = -self.mu * self.N_of(x)
+        for k in range(steps):
+            if self.expired():
+                break
+            res = self.cone.cohesive(c, time_limit=self.left())
+            if not res.ok or res.u is None:
+                break
+            raw = res.alpha
+            st = self.certify(res.u, source)
+            if st is not None and (best is None or st.alpha < best.alpha):
+                best = st
+            c_new = -self.mu * self.N_of(res.x)
+            self._log(f"  successive step {k + 1} alpha {raw:.7f} certified {st.alpha if st else np.nan:.7f}")
+            if np.abs(c_new - c).max() <= 1e-7 * max(np.abs(c).max(), 1e-300):
+                break
+            c = (1 - relax) * c + relax * c_new
+        return best, raw
+
+
+def solve3d(structure: Structure3D, method: str = "all", time_limit: float | None = None,
+            verbose: bool = False, threads: int = 1) -> Result3D:
+    """Least certified collapse multiplier of a 3D block assembly on the Coulomb cone.
+
+    ``method``: 'gap' (the gap alternation), 'successive' (the successive cone method) or
+    'all' (both, the least certified alpha kept). Returns a :class:`Result3D`: alpha, the
+    certified statics (N, T1, T2 per point), block motions (nb, 6), per-point modes
+    (stuck / opening / sliding) and the path that certified it, all in the user's units.
+    """
+    structure.validate()
+    methods = METHODS if method == "all" else (method,)
+    for m in methods:
+        if m not in METHODS:
+            from ..errors import InputError
+            raise InputError(f"method '{m}' is not a 3D method; expected one of all, {', '.join(METHODS)}")
+    eng = ConeSearch(structure, time_limit=time_limit, verbose=verbose, threads=threads)
+    assoc = eng.associative()
+    out = Result3D(status="none certified", state=None, associative=assoc.alpha if assoc.ok else np.nan,
+                   associative_time=eng.elapsed())
+    if assoc.status == "infeasible":
+        out.status = "unstable"
+        out.message = "no statically admissible state carries the dead load alone: not in equilibrium"
+        return _finish(eng, out)
+    if assoc.status == "unbounded":
+        out.status, out.associative = "no collapse", np.inf
+        out.message = "the associative program is unbounded: the statics carries any multiple of the live load"
+        return _finish(eng, out)
+    if not assoc.ok:
+        out.message = f"associative cone program: {assoc.status}"
+        return _finish(eng, out)
+    eng._log(f"associative alpha {assoc.alpha:.7f}")
+    for m in methods:
+        t = time.perf_counter()
+        if m == "gap":
+            st, x = eng.alternate(assoc.x)
+            raw = float(x[-1])
+        else:
+            st, raw = eng.successive(assoc.x)
+        out.methods[m] = {"raw": raw, "certified": np.nan if st is None else st.alpha,
+                          "seconds": time.perf_counter() - t}
+    return _finish(eng, out)
+
+
+def _finish(eng: ConeSearch, out: Result3D) -> Result3D:
+    out.state = eng.best_user
+    out.history = list(eng.history)
+    out.seconds = eng.elapsed()
+    out.n_cone, out.n_lp = eng.cone.n_solves, eng.n_lp
+    if eng.first is not None:
+        out.first_alpha, out.first_time = eng.first
+    if out.state is not None:
+        out.status = "certified"
+        out.message = "least certified collapse multiplier found"
+    elif out.status == "none certified" and not out.message:
+        out.message = f"no collapse state certified; the associative multiplier {out.associative:.6g} bounds alpha_c"
+    return out
