@@ -25,3 +25,28 @@ def box_on_ground(a, b, h, mu=0.6, live=(1.0, 0.0, 0.0), live_m=(0.0, 0.0, 0.0),
         iface_a=["ground"], iface_b=["B"], iface_polygon=[corners], point_interface=[0, 0, 0, 0],
         point=corners, normal=normal, tangent1=t1, tangent2=t2, mu=np.full(4, mu),
         polyhedra={"B": box_vertices((-a / 2, -b / 2, 0), (a / 2, b / 2, h))}).validate()
+
+
+def transformed(s: Structure3D, R=np.eye(3), length=1.0, force=1.0, block_order=None, point_order=None,
+                shift=(0.0, 0.0, 0.0)):
+    """The same structure moved by the orthogonal map R (a rotation or a mirror; loads and
+    gravity with it) and a shift, in other units (lengths times ``length``, forces times
+    ``force``), with its blocks and contact points renumbered."""
+    R = np.asarray(R, float)
+    det = np.linalg.det(R)
+    shift = np.asarray(shift, float)
+    P = lambda x: (np.asarray(x) @ R.T) * length + shift  # noqa: E731
+    V = lambda v: np.asarray(v) @ R.T  # noqa: E731
+    nb, npt = s.n_blocks, s.n_points
+    bo = np.arange(nb) if block_order is None else np.asarray(block_order)
+    po = np.arange(npt) if point_order is None else np.asarray(point_order)
+    normal = V(s.normal)[po]
+    t1 = V(s.tangent1)[po]
+    t2 = np.cross(normal, t1)  # right-handed again after a mirror
+    return Structure3D(
+        name=s.name, blocks=[s.blocks[j] for j in bo], centroid=P(s.centroid)[bo], dead=V(s.dead)[bo] * force,
+        live=V(s.live)[bo] * force, supports=s.supports, interfaces=s.interfaces, iface_a=s.iface_a,
+        iface_b=s.iface_b, iface_polygon=[P(p) for p in s.iface_polygon], point_interface=s.point_interface[po],
+        point=P(s.point)[po], normal=normal, tangent1=t1, tangent2=t2, mu=s.mu[po],
+        dead_m=det * V(s.dead_m)[bo] * force * length, live_m=det * V(s.live_m)[bo] * force * length,
+        polyhedra={k: (P(v), f) for k, (v, f) in s.polyhedra.items()}).validate()
