@@ -118,14 +118,22 @@ class ConePrograms:
         return self._solve(cost, self.E, -self.form.f0, self._nonneg(), self._soc_N + self._soc_T,
                            np.zeros(3 * self.np), self.np, time_limit)
 
-    def cohesive(self, c, time_limit=None) -> ConeResult:
-        """alpha_as(c): max alpha with ||T_p|| <= c_p and N_p <= 0; u is its mechanism."""
+    def cohesive(self, c, may_open=None, may_slip=None, time_limit=None) -> ConeResult:
+        """alpha_as(c): max alpha with ||T_p|| <= c_p and N_p <= 0; u is its mechanism.
+
+        ``may_open`` / ``may_slip`` (bool, np) restrict the mechanism: a point that may not
+        open has its N free (the dual then gives it no opening), one that may not slip its
+        T free (no slip)."""
+        n = self.np
         c = np.maximum(np.asarray(c, float), 0.0)
         cost = np.zeros(self.nx)
         cost[-1] = -1.0
-        b = np.zeros(3 * self.np)
+        slip = np.ones(n, bool) if may_slip is None else np.asarray(may_slip, bool)
+        b = np.zeros(3 * n)
         b[0::3] = c
-        return self._solve(cost, self.E, -self.form.f0, self._nonneg(), self._soc_T, b, self.np, time_limit)
+        keep = np.flatnonzero(np.repeat(slip, 3))
+        return self._solve(cost, self.E, -self.form.f0, self._nonneg(may_open), self._soc_T[keep], b[keep],
+                           int(slip.sum()), time_limit)
 
     def statics(self, w=None, opening=None, sliding=None, slide_dir=None, time_limit=None) -> ConeResult:
         """min alpha + w^T s_f over S with points held: ``opening`` (bool, np) at N = T = 0,

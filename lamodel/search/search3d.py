@@ -32,6 +32,12 @@ from .cone import ConePrograms
 
 #: rho ladder of the gap step (as the planar engine's main ladder).
 RHO_MAIN = (1e3, 1e4)
+#: Continuation ladders from the associative statics: a low rho first lets alpha fall far
+#: before the gap is squeezed out (the extruded wall55: 0.557520 from the first, where the
+#: main ladder certifies 0.558310).
+RHO_CONTS = ((2.0, 10.0, 100.0, 1e3), (10.0, 100.0, 1e3, 1e4))
+#: Most descent steps from a certified state.
+DESCENT_STEPS = 10
 #: A gap below GAP_CERTIFY * max(1, alpha) is worth a certification.
 GAP_CERTIFY = 1e-5
 #: Thresholds (fractions of the largest strain) above which a conic mechanism's point
@@ -261,7 +267,7 @@ class ConeSearch:
                     st = self.certify(res.u, source)
                     if st is not None and (best is None or st.alpha < best.alpha):
                         best = st
-                    if st is not None and st.alpha <= alpha + 1e-9 * max(1.0, alpha):
+                    if st is not None and abs(st.alpha - alpha) <= 1e-9 * max(1.0, alpha):
                         return best, x  # certified at this statics' alpha: the gap is closed
                 obj = alpha + rho * gap
                 if obj >= obj_prev - 1e-9 * max(1.0, abs(obj_prev)):
@@ -272,6 +278,34 @@ class ConeSearch:
                     break
                 x = nxt.x
         return best, x
+
+    def continuations(self, x):
+        """The gap alternation from x on each ladder of RHO_CONTS; the least certified (or None)."""
+        best = None
+        for rhos in RHO_CONTS:
+            st, _ = self.alternate(x, rhos=rhos, source="continuation")
+            if st is not None and (best is None or st.alpha < best.alpha):
+                best = st
+        return best
+
+    def descend(self, st, steps=DESCENT_STEPS):
+        """From a certified state: the mechanism of least alpha_K for its cohesions among
+        those flowing only where its statics allows (opening where N = 0, slip on the cone),
+        certified; again while alpha falls. The current mechanism is one of them."""
+        for _ in range(steps):
+            if self.expired():
+                break
+            scale = max(np.abs(st.N).max(), 1e-300)
+            may_open = -st.N <= 1e-9 * scale
+            may_slip = -self.mu * st.N - np.hypot(st.T1, st.T2) <= 1e-9 * scale
+            res = self.cone.cohesive(-self.mu * st.N, may_open=may_open, may_slip=may_slip, time_limit=self.left())
+            if not res.ok or res.u is None:
+                break
+            nxt = self.certify(res.u, st.source.split("+")[0] + "+descend")
+            if nxt is None or nxt.alpha >= st.alpha - 1e-10 * max(1.0, st.alpha):
+                break
+            st = nxt
+        return st
 
     def successive(self, x, steps=SUCCESSIVE_STEPS, relax=SUCCESSIVE_RELAXATION, source="successive"):
         """The successive cone method from the statics x: cohesions c = -mu N fixed from the
@@ -301,11 +335,12 @@ class ConeSearch:
 
 
 def solve3d(structure: Structure3D, method: str = "all", time_limit: float | None = None,
-            verbose: bool = False, threads: int = 1) -> Result3D:
+            explore: bool = True, verbose: bool = False, threads: int = 1) -> Result3D:
     """Least certified collapse multiplier of a 3D block assembly on the Coulomb cone.
 
     ``method``: 'gap' (the gap alternation), 'successive' (the successive cone method) or
-    'all' (both, the least certified alpha kept). Returns a :class:`Result3D`: alpha, the
+    'all' (both, the least certified alpha kept); ``explore`` adds the continuation ladders
+    to the gap alternation and a descent from each method's certified state. Returns a :class:`Result3D`: alpha, the
     certified statics (N, T1, T2 per point), block motions (nb, 6), per-point modes
     (stuck / opening / sliding) and the path that certified it, all in the user's units.
     """
@@ -336,11 +371,19 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
         if m == "gap":
             st, x = eng.alternate(assoc.x)
             raw = float(x[-1])
+            if explore:
+                st = _least(st, eng.continuations(assoc.x))
         else:
             st, raw = eng.successive(assoc.x)
+        if explore and st is not None:
+            st = eng.descend(st)
         out.methods[m] = {"raw": raw, "certified": np.nan if st is None else st.alpha,
                           "seconds": time.perf_counter() - t}
     return _finish(eng, out)
+
+
+def _least(a, b):
+    return b if a is None or (b is not None and b.alpha < a.alpha) else a
 
 
 def _finish(eng: ConeSearch, out: Result3D) -> Result3D:

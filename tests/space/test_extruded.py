@@ -23,8 +23,10 @@ def planar_first_certificate(s2):
 
 @pytest.mark.parametrize("name", SEED)
 def test_in_plane_load_gives_the_planar_first_certificate(name):
+    # the same path as the planar engine's first certificate: the main gap ladder from the
+    # associative statics, without the continuations and descents
     s2 = read(INSTANCES / name)
-    r = solve3d(extrude(s2, depth=1.0))
+    r = solve3d(extrude(s2, depth=1.0), method="gap", explore=False)
     assert r.status == "certified"
     assert max(r.state.residual.values()) <= RESIDUAL_TOLERANCE
     assert r.alpha == pytest.approx(planar_first_certificate(s2), abs=1e-6)
@@ -43,6 +45,13 @@ def test_out_of_plane_wall_overturns_as_a_whole(name, courses):
     r = solve3d(s)
     assert r.status == "certified"
     assert r.alpha == pytest.approx(depth / (1.75 * courses), abs=1e-6)
+
+
+def test_extruded_wall55_explored_reaches_below_its_first_certificate():
+    # the continuation ladders certify 0.557520 (the planar search's best is 0.557416)
+    r = solve3d(extrude(read(INSTANCES / "wall55.dat"), depth=1.0))
+    assert r.status == "certified"
+    assert 0.557416 - 1e-6 <= r.alpha < 0.558310 - 1e-4
 
 
 def _rotation(rng):
