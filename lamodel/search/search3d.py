@@ -36,6 +36,9 @@ RHO_MAIN = (1e3, 1e4)
 #: before the gap is squeezed out (the extruded wall55: 0.557520 from the first, where the
 #: main ladder certifies 0.558310).
 RHO_CONTS = ((2.0, 10.0, 100.0, 1e3), (10.0, 100.0, 1e3, 1e4))
+#: Exploring (continuations, descents) stops after this many times the cone programs it
+#: took to the first certificate (and at least PATIENCE_MIN) without improvement.
+PATIENCE, PATIENCE_MIN = 3, 12
 #: Most descent steps from a certified state.
 DESCENT_STEPS = 10
 #: A gap below GAP_CERTIFY * max(1, alpha) is worth a certification.
@@ -121,6 +124,7 @@ class ConeSearch:
         self.first = None
         self.history = []
         self.n_lp = 0
+        self.solves_at_first = self.solves_at_best = 0
         self._certified = {}
 
     # --------------------------------------------------------------- bookkeeping
@@ -227,8 +231,10 @@ class ConeSearch:
         if self.best is None or st.alpha < self.best.alpha - 1e-12 * max(1.0, st.alpha):
             self.best, self.best_user = st, user
             t = self.elapsed()
+            self.solves_at_best = self.cone.n_solves
             if self.first is None:
                 self.first = (st.alpha, t)
+                self.solves_at_first = self.cone.n_solves
             self.history.append((t, st.alpha, st.source))
             self._log(f"  certified alpha {st.alpha:.7f}  {st.source}")
         return True
@@ -278,6 +284,17 @@ class ConeSearch:
                     break
                 x = nxt.x
         return best, x
+
+    def patience_over(self) -> bool:
+        """No improvement over PATIENCE times the cone programs it took to the first
+        certificate (PATIENCE_MIN at least), or the time limit: exploring stops. Counted
+        in programs, not seconds, so that the answer does not depend on the machine."""
+        if self.expired():
+            return True
+        if self.first is None:
+            return False
+        since = self.cone.n_solves - self.solves_at_best
+        return since > max(PATIENCE * self.solves_at_first, PATIENCE_MIN)
 
     def continuations(self, x):
         """The gap alternation from x on each ladder of RHO_CONTS; the least certified (or None)."""
@@ -339,8 +356,9 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
     """Least certified collapse multiplier of a 3D block assembly on the Coulomb cone.
 
     ``method``: 'gap' (the gap alternation), 'successive' (the successive cone method) or
-    'all' (both, the least certified alpha kept); ``explore`` adds the continuation ladders
-    to the gap alternation and a descent from each method's certified state. Returns a :class:`Result3D`: alpha, the
+    'all' (both, the least certified alpha kept); ``explore`` then adds the continuation
+    ladders of the gap alternation and a descent from each method's certified state, while
+    they improve (PATIENCE). Returns a :class:`Result3D`: alpha, the
     certified statics (N, T1, T2 per point), block motions (nb, 6), per-point modes
     (stuck / opening / sliding) and the path that certified it, all in the user's units.
     """
@@ -366,19 +384,37 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
         out.message = f"associative cone program: {assoc.status}"
         return _finish(eng, out)
     eng._log(f"associative alpha {assoc.alpha:.7f}")
-    for m in methods:
+    found = {}
+    for m in methods:  # each method's own answer first, certified
         t = time.perf_counter()
         if m == "gap":
             st, x = eng.alternate(assoc.x)
             raw = float(x[-1])
-            if explore:
-                st = _least(st, eng.continuations(assoc.x))
         else:
             st, raw = eng.successive(assoc.x)
-        if explore and st is not None:
-            st = eng.descend(st)
+        found[m] = st
         out.methods[m] = {"raw": raw, "certified": np.nan if st is None else st.alpha,
                           "seconds": time.perf_counter() - t}
+    if explore:
+        # then, while they keep improving (see ConeSearch.patience_over): continuation
+        # ladders, descents
+        steps = [("gap", lambda: eng.continuations(assoc.x))] if "gap" in methods else []
+        steps += [(m, lambda m=m: found[m] and eng.descend(found[m])) for m in methods]
+        for m, step in steps:
+            if eng.patience_over():
+                break
+            t = time.perf_counter()
+            found[m] = _least(found[m], step())
+            out.methods[m]["certified"] = np.nan if found[m] is None else found[m].alpha
+            out.methods[m]["seconds"] += time.perf_counter() - t
+    if eng.best is not None and not eng.expired():
+        # stable under the dead load alone: some admissible statics has alpha = 0
+        low = eng.statics()
+        if low.ok and low.alpha > 1e-9 * max(1.0, eng.best.alpha):
+            out.status = "unstable"
+            out.message = (f"no statically admissible state carries the dead load alone (least alpha "
+                           f"{low.alpha:.6g} > 0): the structure is not in equilibrium without live load")
+            eng.best = eng.best_user = None
     return _finish(eng, out)
 
 

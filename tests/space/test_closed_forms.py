@@ -70,3 +70,16 @@ def test_unknown_method_is_an_input_error():
     from lamodel.errors import InputError
     with pytest.raises(InputError, match="method 'ipopt'"):
         solve3d(box_on_ground(1, 1, 1), method="ipopt")
+
+
+def test_a_block_that_needs_the_live_load_to_stand_is_unstable():
+    s = box_on_ground(1.0, 1.0, 2.0, 0.6, (-1.0, 0.0, 0.0))
+    s.dead[0] = [0.8, 0.0, -1.0]   # tips over about x = +a/2 without live load (needs <= 0.5)
+    r = solve3d(s)
+    assert r.status == "unstable" and r.state is None and np.isnan(r.alpha)
+    assert "dead load alone" in r.message
+
+
+def test_a_live_load_pressing_on_the_ground_never_collapses():
+    r = solve3d(box_on_ground(1.0, 1.0, 1.0, 0.6, (0.0, 0.0, -1.0)))
+    assert r.status == "no collapse" and r.associative == np.inf
