@@ -27,7 +27,8 @@ import numpy as np
 
 from ..formulation.space import Formulation3D, scaled, scales
 from ..structure3d import Structure3D
-from .certify3d import CollapseState3D, exact_state, passes, project_mechanism, residuals, statics_lp
+from .certify3d import (CollapseState3D, exact_state, passes, polish_mechanism, project_mechanism, residuals,
+                        statics_lp)
 from .cone import ConePrograms
 
 #: rho ladder of the gap step (as the planar engine's main ladder).
@@ -165,10 +166,13 @@ class ConeSearch:
         return q
 
     # ------------------------------------------------------------- certification
-    def certify(self, u, source):
+    def certify(self, u, source, x=None, c=None):
         """The points the mechanism u opens or slides held, least alpha over S, then exact
-        (see the module doc). Tries the thresholds FLOW_TOLS in turn; the first certified
-        state (or None)."""
+        (see the module doc). ``x``: the statics that came with u (the cohesive program's),
+        whose tangential forces give the sliding directions when nothing better does;
+        ``c``: the cohesions u is the least-alpha_K mechanism for (then it is polished to
+        that optimum exactly, which fixes its slip directions). Tries the thresholds
+        FLOW_TOLS in turn; the first certified state (or None)."""
         n = self.np
         q = self.form.strains(u)
         U = np.abs(q).max()
@@ -188,15 +192,31 @@ class ConeSearch:
             slip_e = np.hypot(qe[n:2 * n], qe[2 * n:])
             if np.any(qe[:n][opening] <= 0) or np.any(slip_e[sliding] <= 0):
                 continue
-            sdir = np.column_stack([qe[n:2 * n], qe[2 * n:]]) / np.where(slip_e > 0, slip_e, 1.0)[:, None]
-            key = (opening.tobytes(), sliding.tobytes(), np.round(sdir[sliding], 6).tobytes())
-            if key in self._certified:
-                st = self._certified[key]
-            else:
-                st = self._certify(opening, sliding, sdir, exact, source)
-                self._certified[key] = st
-            if st is not None:
-                return st
+            if c is not None:
+                polished = polish_mechanism(self.form, exact, ~(opening | sliding), sliding, c)
+                if polished is not None:
+                    polished = project_mechanism(self.form, polished, ~(opening | sliding), sliding)
+                if polished is not None:
+                    qp = self.form.strains(polished)
+                    slip_p = np.hypot(qp[n:2 * n], qp[2 * n:])
+                    if np.all(qp[:n][opening] > 0) and np.all(slip_p[sliding] > 0):
+                        exact, qe, slip_e = polished, qp, slip_p
+            # sliding directions: the (polished) mechanism's, then the statics' forces
+            dirs = [np.column_stack([qe[n:2 * n], qe[2 * n:]]) / np.where(slip_e > 0, slip_e, 1.0)[:, None]]
+            if x is not None:
+                T = np.column_stack([x[n:2 * n], x[2 * n:3 * n]])
+                Tn = np.hypot(T[:, 0], T[:, 1])
+                if np.all(Tn[sliding] > 0) and np.all((T * dirs[0]).sum(1)[sliding] > 0):
+                    dirs.append(np.where(sliding[:, None], T / np.where(Tn > 0, Tn, 1.0)[:, None], dirs[0]))
+            for sdir in dirs:
+                key = (opening.tobytes(), sliding.tobytes(), np.round(sdir[sliding], 9).tobytes())
+                if key in self._certified:
+                    st = self._certified[key]
+                else:
+                    st = self._certify(opening, sliding, sdir, exact, source)
+                    self._certified[key] = st
+                if st is not None:
+                    return st
         return None
 
     def _certify(self, opening, sliding, sdir, u, source):
@@ -270,7 +290,7 @@ class ConeSearch:
                 gap = self.gap(q, x)
                 self._log(f"  {source} rho {rho:g} alpha {alpha:.7f} alpha_as {res.alpha:.7f} gap {gap:.2e}")
                 if gap <= GAP_CERTIFY * max(1.0, alpha):
-                    st = self.certify(res.u, source)
+                    st = self.certify(res.u, source, res.x, -self.mu * self.N_of(x))
                     if st is not None and (best is None or st.alpha < best.alpha):
                         best = st
                     if st is not None and abs(st.alpha - alpha) <= 1e-9 * max(1.0, alpha):
@@ -318,7 +338,7 @@ class ConeSearch:
             res = self.cone.cohesive(-self.mu * st.N, may_open=may_open, may_slip=may_slip, time_limit=self.left())
             if not res.ok or res.u is None:
                 break
-            nxt = self.certify(res.u, st.source.split("+")[0] + "+descend")
+            nxt = self.certify(res.u, st.source.split("+")[0] + "+descend", res.x, -self.mu * st.N)
             if nxt is None or nxt.alpha >= st.alpha - 1e-10 * max(1.0, st.alpha):
                 break
             st = nxt
@@ -337,7 +357,7 @@ class ConeSearch:
             if not res.ok or res.u is None:
                 break
             raw = res.alpha
-            st = self.certify(res.u, source)
+            st = self.certify(res.u, source, res.x, c)
             if st is not None and (best is None or st.alpha < best.alpha):
                 best = st
             c_new = -self.mu * self.N_of(res.x)

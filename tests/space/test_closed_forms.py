@@ -83,3 +83,16 @@ def test_a_block_that_needs_the_live_load_to_stand_is_unstable():
 def test_a_live_load_pressing_on_the_ground_never_collapses():
     r = solve3d(box_on_ground(1.0, 1.0, 1.0, 0.6, (0.0, 0.0, -1.0)))
     assert r.status == "no collapse" and r.associative == np.inf
+
+
+def test_random_blocks_slide_or_overturn_at_the_closed_form():
+    # tall and squat blocks, any load direction and mu: sliding with unequal normal forces
+    # (the overturning moment loads the front corners) needs the exact sliding directions
+    rng = np.random.default_rng(3)
+    for _ in range(16):
+        a, b, h = rng.uniform(0.3, 2.0, 3)
+        mu, phi = rng.uniform(0.2, 0.9), rng.uniform(0, 2 * np.pi)
+        c, s = np.cos(phi), np.sin(phi)
+        closed = min(mu, a / (h * abs(c)), b / (h * abs(s)))
+        r = certified(box_on_ground(a, b, h, mu, (c, s, 0.0)))
+        assert r.alpha == pytest.approx(closed, abs=1e-6), (a, b, h, mu, phi)
