@@ -50,3 +50,26 @@ def transformed(s: Structure3D, R=np.eye(3), length=1.0, force=1.0, block_order=
         point=P(s.point)[po], normal=normal, tangent1=t1, tangent2=t2, mu=s.mu[po],
         dead_m=det * V(s.dead_m)[bo] * force * length, live_m=det * V(s.live_m)[bo] * force * length,
         polyhedra={k: (P(v), f) for k, (v, f) in s.polyhedra.items()}).validate()
+
+
+def stack_of_boxes(n, a, b, h, mu=0.6, live=(1.0, 0.0, 0.0)):
+    """n equal blocks a x b x h stacked on the ground (interfaces on 4 corner points each);
+    the whole stack turns about a base edge at alpha = a / (n h |cos|) or b / (n h |sin|)."""
+    corners = np.array([[-a / 2, -b / 2], [a / 2, -b / 2], [a / 2, b / 2], [-a / 2, b / 2]], float)
+    pts, faces, ia, ib = [], [], [], []
+    for k in range(n):
+        pts.append(np.column_stack([corners, np.full(4, k * h)]))
+        ia.append("ground" if k == 0 else f"B{k}")
+        ib.append(f"B{k + 1}")
+    point = np.vstack(pts)
+    normal = np.tile([0.0, 0.0, 1.0], (4 * n, 1))
+    t1, t2 = tangent_frame(normal)
+    blocks = [f"B{k + 1}" for k in range(n)]
+    return Structure3D(
+        name=f"stack{n}", blocks=blocks, centroid=[[0, 0, (k + 0.5) * h] for k in range(n)],
+        dead=[[0, 0, -1.0]] * n, live=[list(live)] * n, supports=["ground"],
+        interfaces=[f"j{k}" for k in range(n)], iface_a=ia, iface_b=ib, iface_polygon=pts,
+        point_interface=np.repeat(np.arange(n), 4), point=point, normal=normal, tangent1=t1, tangent2=t2,
+        mu=np.full(4 * n, mu),
+        polyhedra={f"B{k + 1}": box_vertices((-a / 2, -b / 2, k * h), (a / 2, b / 2, (k + 1) * h))
+                   for k in range(n)}).validate()

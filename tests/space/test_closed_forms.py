@@ -96,3 +96,14 @@ def test_random_blocks_slide_or_overturn_at_the_closed_form():
         closed = min(mu, a / (h * abs(c)), b / (h * abs(s)))
         r = certified(box_on_ground(a, b, h, mu, (c, s, 0.0)))
         assert r.alpha == pytest.approx(closed, abs=1e-6), (a, b, h, mu, phi)
+
+
+@pytest.mark.parametrize("phi, mu", [(0, 0.6), (35, 0.6), (70, 0.6), (35, 0.1)])
+def test_stack_of_blocks_turns_as_a_whole_or_slides(phi, mu):
+    from builders import stack_of_boxes
+    p = np.radians(phi)
+    n, a, b, h = 3, 1.0, 0.8, 0.5
+    c, s = np.cos(p), np.sin(p)
+    closed = min(mu, a / (n * h * abs(c)), b / (n * h * abs(s)) if s > 0 else np.inf)
+    r = certified(stack_of_boxes(n, a, b, h, mu, (c, s, 0.0)))
+    assert r.alpha == pytest.approx(closed, abs=1e-6)
