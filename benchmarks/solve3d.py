@@ -10,7 +10,7 @@ Cases: ``bondC-oop`` — a running-bond wall of C courses (from the bottom 1/2 +
 blocks) extruded to a depth of 1 and loaded out of plane (live load along the depth, equal
 to each block's weight): it overturns as a whole, alpha = depth / height. ``wall33`` and
 ``wall55`` (the seed's walls) extruded, loaded in plane (the planar alpha of the first
-certificate) and out of plane (``-oop``). Columns: blocks, contact points, the
+certificate), out of plane (``-oop``) and at 45 degrees between (``-diag``). Columns: blocks, contact points, the
 associative bound and the time of its cone program, the first certified alpha and its time,
 the best certified alpha, the whole time, cone programs and LPs solved, and the closed form
 where one applies.
@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 COURSE = 1.75
-DEFAULT = ("wall33", "wall33-oop", "wall55", "wall55-oop", "bond32-oop")
+DEFAULT = ("wall33", "wall33-oop", "wall33-diag", "wall55", "wall55-oop", "wall55-diag", "bond32-oop")
 
 
 def build(case: str):
@@ -51,6 +51,9 @@ def build(case: str):
     if load == "oop":  # live load along the depth, equal to the weight of each block
         s.live = np.column_stack([np.zeros(s.n_blocks), -s.dead[:, 2], np.zeros(s.n_blocks)])
         closed = 1.0 / (courses * COURSE)
+    elif load == "diag":  # half in plane, half out of plane (45 degrees)
+        w = -s.dead[:, 2] / np.sqrt(2)
+        s.live = np.column_stack([w, w, np.zeros(s.n_blocks)])
     return s.validate(), closed
 
 

@@ -40,6 +40,10 @@ RHO_CONTS = ((2.0, 10.0, 100.0, 1e3), (10.0, 100.0, 1e3, 1e4))
 #: Exploring (continuations, descents) stops after this many times the cone programs it
 #: took to the first certificate (and at least PATIENCE_MIN) without improvement.
 PATIENCE, PATIENCE_MIN = 3, 12
+#: Least alpha over S above this (times max(1, alpha)) means unstable under the dead load
+#: alone: an interior-point answer of 0 is exact only to its tolerance (1e-8 measured on the
+#: 816-block wall).
+STABLE_TOLERANCE = 1e-6
 #: Most descent steps from a certified state.
 DESCENT_STEPS = 10
 #: A gap below GAP_CERTIFY * max(1, alpha) is worth a certification.
@@ -320,6 +324,8 @@ class ConeSearch:
         """The gap alternation from x on each ladder of RHO_CONTS; the least certified (or None)."""
         best = None
         for rhos in RHO_CONTS:
+            if self.patience_over():
+                break
             st, _ = self.alternate(x, rhos=rhos, source="continuation")
             if st is not None and (best is None or st.alpha < best.alpha):
                 best = st
@@ -330,7 +336,7 @@ class ConeSearch:
         those flowing only where its statics allows (opening where N = 0, slip on the cone),
         certified; again while alpha falls. The current mechanism is one of them."""
         for _ in range(steps):
-            if self.expired():
+            if self.patience_over():
                 break
             scale = max(np.abs(st.N).max(), 1e-300)
             may_open = -st.N <= 1e-9 * scale
@@ -430,7 +436,7 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
     if eng.best is not None and not eng.expired():
         # stable under the dead load alone: some admissible statics has alpha = 0
         low = eng.statics()
-        if low.ok and low.alpha > 1e-9 * max(1.0, eng.best.alpha):
+        if low.ok and low.alpha > STABLE_TOLERANCE * max(1.0, eng.best.alpha):
             out.status = "unstable"
             out.message = (f"no statically admissible state carries the dead load alone (least alpha "
                            f"{low.alpha:.6g} > 0): the structure is not in equilibrium without live load")
