@@ -73,10 +73,10 @@ class CollapseState3D:
     @property
     def modes(self) -> np.ndarray:
         """Per point: 'stuck', 'opening' or 'sliding' (see :func:`point_modes`)."""
-        return point_modes(self.q, self.u.size // 6)
+        return point_modes(self.q)
 
 
-def point_modes(q, nb=None, tol=FLOW_TOL) -> np.ndarray:
+def point_modes(q, tol=FLOW_TOL) -> np.ndarray:
     """'opening' where the point opens, 'sliding' where it slips without opening, else
     'stuck'; motions below ``tol`` of the largest strain are none."""
     npt = len(q) // 3

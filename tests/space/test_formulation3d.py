@@ -1,6 +1,5 @@
 """Eq. 1-2 in space and the residual test of certification."""
 import numpy as np
-import pytest
 
 from builders import box_on_ground
 from conftest_paths import INSTANCES
@@ -70,3 +69,35 @@ def test_residual_test_rejects_a_twisted_or_non_collapse_state():
     res = residuals(f, st.N, st.T1, st.T2, st.alpha, up, f.strains(up))
     assert res["opening_complementarity"] > 1e-3
 
+
+
+def _pyramid_associative(s, facets, circumscribed):
+    """max alpha over S with every cone replaced by a pyramid of ``facets`` facets
+    (generator form, HiGHS through scipy)."""
+    import scipy.sparse as sp
+    from scipy.optimize import linprog
+    f = Formulation3D.of(s)
+    n = s.n_points
+    radius = 1.0 / np.cos(np.pi / facets) if circumscribed else 1.0
+    th = 2 * np.pi * np.arange(facets) / facets
+    p = np.repeat(np.arange(n), facets)
+    g = np.tile(th, n)
+    m = p.size
+    cols = np.arange(m)
+    Tg = sp.csr_matrix((np.concatenate([-np.ones(m), s.mu[p] * radius * np.cos(g), s.mu[p] * radius * np.sin(g)]),
+                        (np.concatenate([p, n + p, 2 * n + p]), np.concatenate([cols, cols, cols]))), shape=(3 * n, m))
+    E = sp.hstack([f.A @ Tg, sp.csr_matrix(f.fbar.reshape(-1, 1))]).tocsc()
+    cost = np.zeros(m + 1)
+    cost[-1] = -1.0
+    res = linprog(cost, A_eq=E, b_eq=-f.f0, bounds=(0, None), method="highs")
+    return res.x[-1]
+
+
+def test_pyramids_of_16_facets_bracket_the_cone():
+    # the associative bound of a block on 4 corners twisted and pushed at once
+    s = box_on_ground(1.0, 0.7, 1.5, 0.6, (0.3, 0.2, 0.0), live_m=(0.0, 0.0, 0.4))
+    cone = solve3d(s, method="gap", explore=False).associative
+    inner = _pyramid_associative(s, 16, circumscribed=False)
+    outer = _pyramid_associative(s, 16, circumscribed=True)
+    assert inner <= cone + 1e-7 <= outer + 2e-7
+    assert outer / inner - 1 < 0.02 + 1e-9
