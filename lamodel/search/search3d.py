@@ -131,6 +131,7 @@ class ConeSearch:
         self.n_lp = 0
         self.solves_at_first = self.solves_at_best = 0
         self._certified = {}
+        self._cohesive_cache = {}
 
     # --------------------------------------------------------------- bookkeeping
     def elapsed(self) -> float:
@@ -156,10 +157,19 @@ class ConeSearch:
 
     def mechanism(self, N):
         """The cohesive program for c = -mu N: (result, strains q of its mechanism)."""
-        res = self.cone.cohesive(-self.mu * N, time_limit=self.left())
+        res = self.cohesive(-self.mu * N)
         if not res.ok or res.u is None:
             return res, None
         return res, self.form.strains(res.u)
+
+    def cohesive(self, c):
+        """The cohesive program for cohesions c, remembered (the gap search's first mechanism
+        step and the successive method's first program are the same)."""
+        key = np.asarray(c, float).tobytes()
+        if key not in self._cohesive_cache:
+            self._cohesive_cache = {key: self.cone.cohesive(c, time_limit=self.left())} | dict(
+                list(self._cohesive_cache.items())[-7:])
+        return self._cohesive_cache[key]
 
     def gap(self, q, x) -> float:
         return float(self.form.gap_weights(self._clean(q)) @ x[:3 * self.np])
@@ -359,7 +369,7 @@ class ConeSearch:
         for k in range(steps):
             if self.expired():
                 break
-            res = self.cone.cohesive(c, time_limit=self.left())
+            res = self.cohesive(c)
             if not res.ok or res.u is None:
                 break
             raw = res.alpha
