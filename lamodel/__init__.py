@@ -36,6 +36,10 @@ _LAZY = {
     "LimitAnalysisBlock": "lamodel.formulation.model",
     "create_model": "lamodel.formulation.model",
     "create_abstract_model": "lamodel.formulation.model",
+    "solve3d": "lamodel.search.search3d",
+    "extrude": "lamodel.formulation.extrude",
+    "LimitAnalysisBlock3D": "lamodel.formulation.model3d",
+    "create_model3d": "lamodel.formulation.model3d",
 }
 
 __all__ = ["InputError", "SolverError", *_LAZY]

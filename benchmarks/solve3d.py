@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+"""The 3D search (lamodel.search.search3d.solve3d) on extruded walls: a benchmark table.
+
+    python benchmarks/solve3d.py                        # every case
+    python benchmarks/solve3d.py --cases bond32-oop     # one case
+    python benchmarks/solve3d.py --method gap --time-limit 120
+
+Cases: ``bondC-oop`` — a running-bond wall of C courses (from the bottom 1/2 + 24 + 1/2 and
+25 full blocks of 4 x 1.75, mu 0.65, as the planar benchmark's ``bondC``; bond32: 816
+blocks) extruded to a depth of 1 and loaded out of plane (live load along the depth, equal
+to each block's weight): it overturns as a whole, alpha = depth / height. ``wall33`` and
+``wall55`` (the seed's walls) extruded, loaded in plane (the planar alpha of the first
+certificate), out of plane (``-oop``) and at 45 degrees between (``-diag``). Columns: blocks, contact points, the
+associative bound and the time of its cone program, the first certified alpha and its time,
+the best certified alpha, the whole time, cone programs and LPs solved, and the closed form
+where one applies.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+COURSE = 1.75
+DEFAULT = ("wall33", "wall33-oop", "wall33-diag", "wall55", "wall55-oop", "wall55-diag", "bond32-oop")
+
+
+def build(case: str):
+    """(Structure3D, closed-form alpha or nan) of a case name."""
+    from lamodel.formulation.extrude import extrude
+    from lamodel.geometry import running_bond_wall, seed_wall
+    from lamodel.io.jsonspec import structure_from_json
+    name, _, load = case.partition("-")
+    if name in ("wall33", "wall55"):
+        courses = 6 if name == "wall33" else 10
+        s2 = structure_from_json(seed_wall(courses))
+    elif name.startswith("bond"):
+        courses = int(name[4:])
+        rows = [[0.5] + [1] * 24 + [0.5] if r % 2 == 0 else [1] * 25 for r in range(courses)]
+        s2 = structure_from_json(running_bond_wall(rows, name=name))
+    else:
+        raise SystemExit(f"unknown case '{case}'")
+    s = extrude(s2, depth=1.0)
+    closed = np.nan
+    if load == "oop":  # live load along the depth, equal to the weight of each block
+        s.live = np.column_stack([np.zeros(s.n_blocks), -s.dead[:, 2], np.zeros(s.n_blocks)])
+        closed = 1.0 / (courses * COURSE)
+    elif load == "diag":  # half in plane, half out of plane (45 degrees)
+        w = -s.dead[:, 2] / np.sqrt(2)
+        s.live = np.column_stack([w, w, np.zeros(s.n_blocks)])
+    return s.validate(), closed
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", default=",".join(DEFAULT))
+    ap.add_argument("--method", default="all", choices=("all", "gap", "successive"))
+    ap.add_argument("--time-limit", type=float, default=None)
+    ap.add_argument("--verbose", action="store_true")
+    a = ap.parse_args(argv)
+    from lamodel.search.search3d import solve3d
+    head = (f"{'case':12s} {'blocks':>6s} {'points':>6s} {'assoc':>9s} {'t_as s':>7s} {'first':>9s} "
+            f"{'t_1st s':>7s} {'best':>9s} {'total s':>7s} {'cones':>5s} {'LPs':>4s} {'closed':>9s}")
+    print(head)
+    print("-" * len(head))
+    for case in a.cases.split(","):
+        t = time.perf_counter()
+        s, closed = build(case)
+        t_build = time.perf_counter() - t
+        r = solve3d(s, method=a.method, time_limit=a.time_limit, verbose=a.verbose)
+        print(f"{case:12s} {s.n_blocks:6d} {s.n_points:6d} {r.associative:9.6f} {r.associative_time:7.2f} "
+              f"{r.first_alpha:9.6f} {r.first_time:7.2f} {r.alpha:9.6f} {r.seconds:7.2f} {r.n_cone:5d} "
+              f"{r.n_lp:4d} {closed:9.6f}   (build {t_build:.1f} s; {r.path})", flush=True)
+
+
+if __name__ == "__main__":
+    main()

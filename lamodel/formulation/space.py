@@ -1,0 +1,148 @@
+"""Eq. (1)-(5) in space, as sparse matrices: the point-contact model on the Coulomb cone.
+
+The 3D counterpart of :mod:`lamodel.formulation.matrices` (the one place where the 3D
+mechanics is written). Conventions are those of :mod:`lamodel.structure3d`:
+
+* statics ``s = (N, T1, T2, alpha)``: per contact point p a normal force N_p (<= 0 is
+  compression) and two tangential components in the point's frame ``(n, t1, t2)``; the
+  force ``N n + T1 t1 + T2 t2`` acts on body a at the point, its opposite on body b;
+* equilibrium ``A s_f + f0 + alpha fbar = 0`` (eq. 1-2), A of size 6 nb x 3 np, block rows
+  ``(fx, fy, fz, mx, my, mz)`` with moments about the centroid (3D cross products);
+* admissibility (eq. 4 on the cone): ``hypot(T1, T2) <= -mu N`` (so ``N <= 0``);
+* compatibility ``q = -A^T u``: per point ``q = (opening, slip1, slip2)``, the motion of b
+  relative to a at the point, in the point's frame (virtual work:
+  ``alpha fbar^T u + f0^T u = s_f^T q``);
+* the fictitious cohesive system: cohesion ``c_p = -mu N_p`` of the real statics,
+  ``||t_p|| <= c_p``, no dilatancy; its flow rule opens only where ``N = 0`` and slips along
+  the tangential force; ``alpha_K = -u^T f0 + sum_p c_p ||slip_p||`` (eq. 5).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..structure3d import Structure3D
+
+
+def _skew_rows(r: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """(k, 3): r x f row by row (the moment of a force f applied at lever arm r)."""
+    return np.cross(r, f)
+
+
+def equilibrium_matrix(s: Structure3D) -> sp.csr_matrix:
+    """A of eq. (2) in space: block resultants (6 nb) produced by the point forces (3 np).
+
+    Column p (N_p), np + p (T1_p), 2 np + p (T2_p): the unit force along n, t1, t2 at the
+    point acts on body a and, reversed, on body b; its moment is about the body's centroid.
+    """
+    nb, npt = s.n_blocks, s.n_points
+    ia, ib = s.point_blocks()
+    rows, cols, vals = [], [], []
+    for blk, sign in ((ia, 1.0), (ib, -1.0)):
+        on = blk >= 0
+        k = np.flatnonzero(on)
+        j = blk[on]
+        r = s.point[k] - s.centroid[j]  # lever arm from the centroid to the point
+        for col0, vec in ((0, s.normal), (npt, s.tangent1), (2 * npt, s.tangent2)):
+            f = vec[k]
+            m = _skew_rows(r, f)
+            for comp in range(3):
+                rows += [6 * j + comp, 6 * j + 3 + comp]
+                cols += [col0 + k, col0 + k]
+                vals += [sign * f[:, comp], sign * m[:, comp]]
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                         shape=(6 * nb, 3 * npt))
+
+
+def load_vectors(s: Structure3D):
+    """(f0, fbar) of eq. (2), each of length 6 nb: resultants at the centroids and, in the
+    moment rows, the moments of loads applied elsewhere (``dead_m``, ``live_m``)."""
+    f0 = np.column_stack([s.dead, s.dead_m]).ravel()
+    fb = np.column_stack([s.live, s.live_m]).ravel()
+    return f0, fb
+
+
+def kinematic_multiplier(f0, mu, u, q, N) -> float:
+    """alpha_K = -u^T f0 + sum_p c_p ||slip_p|| with c_p = -mu N_p (eq. 5 on the cone):
+    the work of the dead loads plus the dissipation of the fictitious cohesive system."""
+    npt = len(mu)
+    slip = np.hypot(q[npt:2 * npt], q[2 * npt:])
+    return float(-np.dot(f0, u) - np.sum(mu * N * slip))
+
+
+def gap_weights(mu, q) -> np.ndarray:
+    """w (3 np) with ``w^T s_f = alpha_K(N) - alpha`` for every statics in equilibrium and a
+    mechanism with strains q (virtual work): per point ``-N open - mu N ||slip|| - T.slip``,
+    which is >= 0 on the cone and 0 exactly when the point obeys the cohesive flow rule."""
+    npt = len(mu)
+    slip = np.hypot(q[npt:2 * npt], q[2 * npt:])
+    return np.concatenate([-q[:npt] - mu * slip, -q[npt:2 * npt], -q[2 * npt:]])
+
+
+def scales(s: Structure3D):
+    """(force, length) units of the non-dimensional problem: the mean dead load of a block
+    (the largest live load if there is none) and the size of the structure."""
+    F = float(np.linalg.norm(s.dead, axis=1).sum() / s.n_blocks)
+    if not F > 0:
+        F = float(max(np.linalg.norm(s.live, axis=1).max(), np.linalg.norm(s.live_m, axis=1).max() / s.size()))
+    return F, float(s.size())
+
+
+def scaled(s: Structure3D, F: float, L: float) -> Structure3D:
+    """The structure with forces divided by F and lengths by L (alpha is unchanged)."""
+    return Structure3D(
+        name=s.name, blocks=s.blocks, centroid=s.centroid / L, dead=s.dead / F, live=s.live / F,
+        supports=s.supports, interfaces=s.interfaces, iface_a=s.iface_a, iface_b=s.iface_b,
+        iface_polygon=[p / L for p in s.iface_polygon], point_interface=s.point_interface, point=s.point / L,
+        normal=s.normal, tangent1=s.tangent1, tangent2=s.tangent2, mu=s.mu, dead_m=s.dead_m / (F * L),
+        live_m=s.live_m / (F * L), volume=s.volume / L ** 3,
+        polyhedra={k: (np.asarray(v) / L, f) for k, (v, f) in s.polyhedra.items()}, units={}, meta=dict(s.meta))
+
+
+@dataclass
+class Formulation3D:
+    """The matrices of one 3D structure, built once (every solver of it shares them)."""
+
+    structure: Structure3D
+    A: sp.csr_matrix
+    f0: np.ndarray
+    fbar: np.ndarray
+
+    @classmethod
+    def of(cls, s: Structure3D) -> "Formulation3D":
+        f0, fbar = load_vectors(s)
+        return cls(s, equilibrium_matrix(s), f0, fbar)
+
+    @property
+    def nb(self) -> int:
+        return self.structure.n_blocks
+
+    @property
+    def np(self) -> int:
+        return self.structure.n_points
+
+    @property
+    def mu(self) -> np.ndarray:
+        return self.structure.mu
+
+    def split(self, s_f):
+        """(N, T1, T2) of a statics vector (3 np, or 3 np + 1 with alpha last)."""
+        n = self.np
+        return s_f[:n], s_f[n:2 * n], s_f[2 * n:3 * n]
+
+    def strains(self, u) -> np.ndarray:
+        """q = -A^T u: (openings, slips1, slips2) of the mechanism u, stacked by kind."""
+        return -(self.A.T @ u)
+
+    def kinematic_multiplier(self, u, q, N) -> float:
+        return kinematic_multiplier(self.f0, self.mu, u, q, N)
+
+    def gap_weights(self, q) -> np.ndarray:
+        return gap_weights(self.mu, q)
+
+    def cone_slack(self, s_f) -> np.ndarray:
+        """-mu N - ||T|| per point (>= 0 when admissible)."""
+        N, T1, T2 = self.split(s_f)
+        return -self.mu * N - np.hypot(T1, T2)

@@ -1,0 +1,3 @@
+from pathlib import Path
+
+INSTANCES = Path(__file__).resolve().parents[2] / "instances"
