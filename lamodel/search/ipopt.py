@@ -43,7 +43,7 @@ def _init_worker(structure: Structure, xi_factor: float, solver: str, own_signal
     if own_signals:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     from ..formulation.model import create_model
-    from .bridge import QuadraticNLP
+    from ..solvers.bridge import QuadraticNLP
     m = create_model(structure, xi_factor=xi_factor)
     _WORKER.update(model=m, nlp=QuadraticNLP(m) if solver == "lamodel_ipopt" else None, structure=structure)
 

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from ..formulation.matrices import Formulation
 from ..structure import Structure
+from .highs import QuietHighs
 from .options import Deadline
 
 INF = highspy.kHighsInf
@@ -33,20 +34,6 @@ INF = highspy.kHighsInf
 TIGHT_TOLERANCE = 1e-9
 #: LPs with more columns than this start with the interior point method
 IPM_COLUMNS = 3000
-
-
-class QuietHighs(highspy.Highs):
-    """highspy's Highs that prints nothing. highspy 1.16 logs its banner to stdout when
-    its constructor enables the Python callbacks, before an option can be set (it broke
-    ``--quiet`` and any stdout a user parses); the option goes first here."""
-
-    def enableCallbacks(self):
-        self.setOptionValue("output_flag", False)
-        super().enableCallbacks()
-
-    def __init__(self):
-        super().__init__()
-        self.setOptionValue("output_flag", False)  # highspy versions without enableCallbacks
 
 
 @dataclass

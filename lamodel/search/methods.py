@@ -161,7 +161,7 @@ def _finish(result: MethodResult, lps, raw, t0, extra="", run=0):
 def _ipopt_model(structure, options: SolveOptions):
     """The Pyomo model of eq. (5) compiled once for Ipopt (None: Pyomo's ipopt executable)."""
     from ..formulation.model import create_model
-    from .bridge import QuadraticNLP
+    from ..solvers.bridge import QuadraticNLP
     m = create_model(structure, xi_factor=options.xi_factor)
     return m, (QuadraticNLP(m) if options.solver == "lamodel_ipopt" else None)
 
