@@ -44,19 +44,19 @@ import numpy as np
 
 from ..structure import Structure
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
-from .ipopt import EPSILON_LADDER, start_pool
+from .ipopt import start_pool
 from .generations import Generations
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
-from .state import CollapseState, Run
-from .tuning import ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, POLISH_SECONDS, STALL_WORK, Z_INIT, Z_MAX
+from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
+                    unstable_message)
+from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
+                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
 def ipopt_seconds(n_blocks: int) -> float:
-    """Estimated seconds of one Ipopt start on eq. (5): about 250 iterations of
-    2.4 s (nb / 1020)^1.8 each (measured with Debian's Ipopt 3.11 and sequential MUMPS:
-    12 ms at 55 blocks, 2.4 s at 1020)."""
-    return 250 * 2.4 * (n_blocks / 1020.0) ** 1.8
+    """Estimated seconds of one Ipopt start on eq. (5) (the model of :mod:`.tuning`)."""
+    return IPOPT_ITERATIONS * IPOPT_SECONDS_1020 * (n_blocks / 1020.0) ** IPOPT_GROWTH
 
 
 @dataclass
@@ -67,7 +67,7 @@ class Outcome:
     best: CollapseState | None
     alpha_associative: float
     runs: list
-    status: str                # certified, unstable, no_collapse, not_certified, interrupted
+    status: str                # one of lamodel.search.state.STATUSES (all but failed)
     message: str
     wall_time_s: float
     seed: int
@@ -130,7 +130,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
     # the search leaves the polish its share of a time limit
     search_deadline = deadline
     if plan["run"] and opt.time_limit is not None:
-        search_deadline = deadline.extended(-min(plan["reserve"], 0.5 * opt.time_limit))
+        search_deadline = deadline.extended(-min(plan["reserve"], POLISH_SHARE * opt.time_limit))
     progress = _Progress(opt.progress, opt.pop_size * opt.generations)
     archive = {}  # every certified state (scaled units), the least alpha per flow pattern
 
@@ -145,7 +145,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
     old_handler = catch_sigint(sigint.set)
     engine = None
     runs: list[Run] = []
-    status, message, alpha_assoc = "not_certified", "", np.nan
+    status, message, alpha_assoc = NOT_CERTIFIED, "", np.nan
     try:
         engine = GapSearch(structure, search_deadline, on_certified=on_certified)
         engine.record.on_state = on_state
@@ -155,7 +155,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
                         engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),
                         time.perf_counter() - t_search))
-        if status == "certified" or (status == "not_certified" and engine.record.best is not None):
+        if status == CERTIFIED or (status == NOT_CERTIFIED and engine.record.best is not None):
             _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
         progress.close()
@@ -163,16 +163,16 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
         if pool is not None:
             _shutdown(pool, kill=asked() or deadline.expired())
     record = engine.record if engine is not None else None
-    if record is not None and record.best_user is not None and status in ("not_certified", "certified"):
-        status = "certified"
+    if record is not None and record.best_user is not None and status in (NOT_CERTIFIED, CERTIFIED):
+        status = CERTIFIED
     if asked():
-        status, message = "interrupted", "interrupted: the best certified state so far is reported"
-    elif status == "certified":
+        status, message = INTERRUPTED, "interrupted: the best certified state so far is reported"
+    elif status == CERTIFIED:
         message = "certified collapse state"
-    if status in ("certified", "interrupted", "not_certified") and deadline.expired() and not asked():
+    if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and deadline.expired() and not asked():
         message += " (the time limit stopped the search)"
     runs.sort(key=lambda r: r.start)
-    best = record.best_user if record is not None and status in ("certified", "interrupted") else None
+    best = record.best_user if record is not None and status in (CERTIFIED, INTERRUPTED) else None
     return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
@@ -188,16 +188,16 @@ def _search(engine, opt, progress, client=None):
         kind, alpha_assoc, x0 = starts.associative()
         engine.fitness.N_assoc = engine.problem.N_of(x0) if x0 is not None else None
         if kind == "unstable":
-            return "unstable", _unstable_message(engine), np.nan
+            return UNSTABLE, _unstable_message(engine), np.nan
         if kind not in ("ok", "unbounded"):
-            return "not_certified", f"the associative LP failed ({kind})", alpha_assoc
+            return NOT_CERTIFIED, f"the associative LP failed ({kind})", alpha_assoc
         progress.phase("first certificate")
         starts.first_certificate(x0)
         # (stable() gives the statics LP back its basis near the collapse states: the GA's
         # evaluations, pure ones included, start from there, not from alpha = 0)
         if not starts.stable():
             record.best = record.best_user = None
-            return "unstable", _unstable_message(engine), alpha_assoc
+            return UNSTABLE, _unstable_message(engine), alpha_assoc
         lps_first = engine.n_lps()  # the work of the first certificate (the GA's stopping rule)
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
@@ -211,7 +211,7 @@ def _search(engine, opt, progress, client=None):
             return _nothing_certified(engine, alpha_assoc, stopped=True)
     if record.best is None:
         return _nothing_certified(engine, alpha_assoc, stopped=False)
-    return "certified", "", alpha_assoc
+    return CERTIFIED, "", alpha_assoc
 
 
 def _genetic_search(engine, opt, progress, client=None, lps_first=None):
@@ -240,7 +240,7 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None):
             state.update(best=record.alpha(), since=-left, lps=engine.n_lps())
         else:
             state["since"] += 1
-        return alpha if np.isfinite(alpha) else 10.0 + (state["best"] if np.isfinite(state["best"]) else 0.0)
+        return alpha if np.isfinite(alpha) else NO_CERTIFICATE + (state["best"] if np.isfinite(state["best"]) else 0.0)
 
     def fitness(z):
         if stalled():  # the rest of this generation is skipped, then the GA stops
@@ -278,32 +278,29 @@ def _nothing_certified(engine, alpha_assoc, stopped):
         except Stopped:
             status = "stopped"
         if status == "unbounded":
-            return "no_collapse", ("no collapse for this live load: no mechanism can follow it (even frictionless "
+            return NO_COLLAPSE, ("no collapse for this live load: no mechanism can follow it (even frictionless "
                                    "joints carry any multiple of it)"), alpha_assoc
-        return "not_certified", (
+        return NOT_CERTIFIED, (
             f"no collapse state certified{when}: the associative LP is unbounded (the statics carries any "
             "multiple of the live load with dilatant friction) and the search found no mechanism of the "
             "frictional assembly; rigid blocks with non-dilatant friction can also lock (e.g. a block wedged "
             "between piers)"), alpha_assoc
     bound = (f"; the associative multiplier {alpha_assoc:.6g} bounds alpha_c from above"
              if np.isfinite(alpha_assoc) else "")
-    return "not_certified", f"no collapse state certified{when}{bound}", alpha_assoc
+    return NOT_CERTIFIED, f"no collapse state certified{when}{bound}", alpha_assoc
 
 
 def _unstable_message(engine):
     """Unstable under dead load, and what alpha it would need to stand (if any)."""
-    base = "unstable under dead load: no statically admissible state at alpha = 0"
     try:
         status, x = engine.problem.statics()  # least alpha >= 0 with a statics
     except Stopped:
-        return base
-    if status == "optimal" and x[-1] > 0:
-        return base + f" (it needs alpha >= {x[-1]:.6g} to stand)"
-    return base
+        return unstable_message()
+    return unstable_message(x[-1] if status == "optimal" else None)
 
 
 def _run_status(engine, status, deadline, asked):
-    text = "certified" if engine.record.best is not None else status.replace("_", " ")
+    text = CERTIFIED if engine.record.best is not None else status.replace("_", " ")
     if asked():
         text += ", interrupted"
     elif deadline.expired():
@@ -326,7 +323,7 @@ def _polish_plan(structure, opt) -> dict:
     est = ipopt_seconds(structure.n_blocks)
     workers = max(1, min(opt.workers or _cores(), n or 1))
     plan = dict(n=n, estimate=est, explicit=explicit, reserve=est * math.ceil(n / workers), why="")
-    budget = None if opt.time_limit is None else 0.5 * opt.time_limit
+    budget = None if opt.time_limit is None else POLISH_SHARE * opt.time_limit
     if n == 0:
         plan["run"] = False
     elif budget is not None and est > budget:
@@ -361,8 +358,6 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
         rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
                                          f"{'s' if len(starts) != 1 else ''} to start from")
     progress.phase("Ipopt on eq. 5")
-    # the engine certifies Ipopt's points within the whole limit (the search had less)
-    engine.use_deadline(deadline)
     futures = {}
     for i, st in enumerate(starts, start=1):
         if deadline.left() < plan["estimate"] and deadline.at is not None:
@@ -379,7 +374,9 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
             done, pending = wait(pending, timeout=0.1, return_when=FIRST_COMPLETED)
             for fut in done:
                 i, st = futures[fut]
-                rows[i] = _certify_ipopt(engine, fut, i, st)
+                # Ipopt's points certified within the whole limit (the search had less)
+                with engine.problem.until(deadline):
+                    rows[i] = _certify_ipopt(engine, fut, i, st)
     except Stopped:
         pass
     for fut in pending:  # left to _shutdown (cancelled, or their workers killed)
@@ -406,8 +403,8 @@ def _certify_point(engine, N, V, M, source):
     tolerance may flow (:meth:`.gap.starts.Starts.certify_slack`). The least certified alpha
     at the first tolerance that certifies, or None."""
     s = np.concatenate([N, V, M])
-    return engine.starts.certify_slack(-(engine.problem.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0), source,
-                                tols=ACTIVE_TOLERANCES, first=True)
+    return engine.starts.certify_slack(-(engine.problem.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0),
+                                       source, tols=ACTIVE_TOLERANCES, first=True)
 
 
 def _shutdown(pool, kill):

@@ -49,10 +49,9 @@ class Evaluators:
         from .gap import GapSearch
         try:
             engine = self.idle.get_nowait()
-            engine.use_deadline(deadline)
         except queue.Empty:
-            engine = GapSearch(self.structure, deadline)
-        outcome = engine.fitness.evaluate_pure(snap, genome, chain)
+            engine = GapSearch(self.structure)
+        outcome = engine.fitness.evaluate_pure(snap, genome, chain, deadline)
         self.idle.put(engine)  # not after Stopped: an engine is unusable after it
         return outcome
 

@@ -27,6 +27,7 @@ from .tuning import (ABANDONED_EXIT_WAIT, BASIS_TOLERANCE, CAP_BACKSTOP, CAP_BAC
                      INLINE_COLUMNS, IPM_COLUMNS, IPM_TOLERANCE, LP_TOLERANCE, WAIT_SLICE)
 
 INF = highspy.kHighsInf
+_NEVER = Deadline()
 
 
 class QuietHighs(highspy.Highs):
@@ -58,26 +59,32 @@ def _join_abandoned():
 
 
 class HighsLP:
-    """min c^T x, A x = b, lo <= x <= hi, warm-started, interruptible, with exact duals.
+    """min c^T x, b <= A x <= b_hi, lo <= x <= hi, warm-started, interruptible, with exact duals.
 
-    Every HiGHS ``run()`` happens in a worker thread (highspy releases the GIL) while the
-    calling thread waits in slices of WAIT_SLICE s and checks the deadline (small LPs,
-    at most INLINE_COLUMNS columns, run inline: milliseconds each): a stop takes
-    effect within a slice even where HiGHS calls no interrupt callback (IPX's crossover,
-    presolve). The abandoned solve goes on in its thread until HiGHS notices the
+    Rows are equalities unless ``b_hi`` is given. ``warm``: the simplex of warm re-solves,
+    ``"primal"`` (the search's: the dual was 10-100x slower on its LPs) or ``"dual"``
+    (HiGHS's default, the published methods' LPs, whose reported values were measured so).
+
+    Each solve is given its deadline. Every HiGHS ``run()`` happens in a worker thread
+    (highspy releases the GIL) while the calling thread waits in slices of WAIT_SLICE s
+    and checks the deadline (small LPs, at most INLINE_COLUMNS columns, run inline:
+    milliseconds each): a stop takes effect within a slice even where HiGHS calls no
+    interrupt callback (IPX's crossover, presolve). The abandoned solve goes on in its thread until HiGHS notices the
     interrupt; its object is marked ``abandoned`` and never touched again (every later
     call raises :class:`Stopped`), so a search is unusable after a Stopped.
     """
 
-    def __init__(self, A, b, cost, lo, hi, deadline: Deadline, name=""):
+    def __init__(self, A, b, cost, lo, hi, name="", b_hi=None, warm="primal"):
         self.A = sp.csc_matrix(A)
         self.m, self.n = self.A.shape
-        self.b = np.asarray(b, float)
+        self.b = np.asarray(b, float).copy()
+        self.b_hi = self.b.copy() if b_hi is None else np.asarray(b_hi, float).copy()
         self.cost = np.asarray(cost, float).copy()
         self.lo, self.hi = np.asarray(lo, float).copy(), np.asarray(hi, float).copy()
-        self.deadline = deadline
+        self.deadline = _NEVER  # that of the solve under way (see solve)
         self.name = name
-        self._built = (self.cost.copy(), self.lo.copy(), self.hi.copy())
+        self.warm_strategy = {"primal": 4, "dual": 1}[warm]  # HiGHS's simplex_strategy of warm solves
+        self._built = tuple(v.copy() for v in (self.cost, self.lo, self.hi, self.b, self.b_hi))
         self._fresh()
         self.n_solves = 0
         self.seconds = 0.0
@@ -93,7 +100,7 @@ class HighsLP:
         lp = highspy.HighsLp()
         lp.num_col_, lp.num_row_ = self.n, self.m
         lp.col_cost_, lp.col_lower_, lp.col_upper_ = self.cost, self.lo, self.hi
-        lp.row_lower_ = lp.row_upper_ = self.b
+        lp.row_lower_, lp.row_upper_ = self.b, self.b_hi
         lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
         lp.a_matrix_.start_ = self.A.indptr.astype(np.int32)
         lp.a_matrix_.index_ = self.A.indices.astype(np.int32)
@@ -110,7 +117,7 @@ class HighsLP:
         """Forget every solve so far: a new HiGHS object (options and solver state as
         built), warm from ``basis`` (:meth:`portable_basis`; None: cold)."""
         self._usable()
-        self.cost, self.lo, self.hi = (v.copy() for v in self._built)
+        self.cost, self.lo, self.hi, self.b, self.b_hi = (v.copy() for v in self._built)
         self._fresh()
         if basis is not None:
             b = highspy.HighsBasis()
@@ -176,16 +183,27 @@ class HighsLP:
             self.h.changeColsCost(changed.size, changed.astype(np.int32), cost[changed])
             self.cost = cost.copy()
 
-    def set_bounds(self, lo, hi):
-        self._usable()
-        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-        changed = np.flatnonzero((lo != self.lo) | (hi != self.hi))
-        if changed.size:
-            self.h.changeColsBounds(changed.size, changed.astype(np.int32), lo[changed], hi[changed])
-            self.lo, self.hi = lo.copy(), hi.copy()
+    def set_bounds(self, lo, hi, idx=None):
+        """Column bounds: all of them, or those of the columns ``idx``."""
+        self.lo, self.hi = self._changed(self.lo, self.hi, lo, hi, idx, self.h.changeColsBounds)
 
-    def solve(self, cap: int | None = None) -> str:
-        """'optimal', 'infeasible', 'unbounded' or another HiGHS status word; raises Stopped.
+    def set_row_bounds(self, lo, hi, idx=None):
+        """Row bounds: all of them, or those of the rows ``idx``."""
+        self.b, self.b_hi = self._changed(self.b, self.b_hi, lo, hi, idx, self.h.changeRowsBounds)
+
+    def _changed(self, cur_lo, cur_hi, lo, hi, idx, change):
+        """New bounds (lo, hi), passed to HiGHS by ``change`` where they differ from (cur_lo, cur_hi)."""
+        self._usable()
+        lo, hi = _spread(cur_lo, lo, idx), _spread(cur_hi, hi, idx)
+        changed = np.flatnonzero((lo != cur_lo) | (hi != cur_hi))
+        if not changed.size:
+            return cur_lo, cur_hi
+        change(changed.size, changed.astype(np.int32), lo[changed], hi[changed])
+        return lo, hi
+
+    def solve(self, cap: int | None = None, deadline: Deadline | None = None) -> str:
+        """'optimal', 'infeasible', 'unbounded' or another HiGHS status word; raises Stopped
+        when ``deadline`` (None: none) fires, also inside HiGHS.
 
         ``cap`` (simplex iterations) bounds this warm solve alone: past it the status is
         'iteration limit', the basis is the one it started from, and the search goes on (a
@@ -193,6 +211,7 @@ class HighsLP:
         seconds: the outcome does not depend on the machine or on its load.
         """
         self._usable()
+        self.deadline = deadline or _NEVER
         self.deadline.check()
         h = self.h
         start = h.getBasis() if cap is not None and not self.cold else None
@@ -220,12 +239,11 @@ class HighsLP:
                 h.setOptionValue(option, LP_TOLERANCE)
             if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
                 h.setOptionValue("solver", "simplex")
-                h.setOptionValue("simplex_strategy", 4)
+                h.setOptionValue("simplex_strategy", self.warm_strategy)
                 self._run()
         else:
             h.setOptionValue("solver", "simplex")
-            # Warm re-solves: primal simplex (the dual was 10-100x slower on these LPs).
-            h.setOptionValue("simplex_strategy", 1 if self.cold else 4)
+            h.setOptionValue("simplex_strategy", 1 if self.cold else self.warm_strategy)
             self._run()
         was_cold, self.cold = self.cold, False
         self.n_solves += 1
@@ -285,6 +303,15 @@ class HighsLP:
     def x(self) -> np.ndarray:
         return np.array(self.h.getSolution().col_value)
 
+    def duals(self):
+        """(row duals, reduced costs) as HiGHS gives them (exact to its tolerances; see
+        :meth:`exact_duals`)."""
+        sol = self.h.getSolution()
+        return np.array(sol.row_dual), np.array(sol.col_dual)
+
+    def objective(self) -> float:
+        return float(self.h.getInfo().objective_function_value)
+
     def _basis(self):
         """(cols, rows): the basic columns and basic rows (ascending), or None if HiGHS's
         basis is not a square basis."""
@@ -322,7 +349,7 @@ class HighsLP:
         """
         x = self.x()
         basis = self._basis()
-        if basis is None:
+        if basis is None or np.any(self.b != self.b_hi):  # range rows: not written for them
             return x
         cols, rows = basis
         xn = np.clip(x, self.lo, self.hi)
@@ -354,3 +381,11 @@ class HighsLP:
             y = np.array(self.h.getSolution().row_dual)
         return y, self.cost - self.A.T @ y
 
+
+def _spread(current, values, idx):
+    """``values`` for all entries (idx None), or ``current`` with those of ``idx`` replaced."""
+    if idx is None:
+        return np.asarray(values, float).copy()
+    out = current.copy()
+    out[np.asarray(idx)] = values
+    return out

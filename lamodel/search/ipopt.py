@@ -16,15 +16,8 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from ..structure import Structure
 from .options import Deadline
 from .state import CollapseState
+from .tuning import EPSILON_LADDER, IPOPT_OPTIONS, IPOPT_WARM_OPTIONS
 
-#: epsilon ladder for the relaxed bilinear condition, as fractions of max(1, alpha)
-EPSILON_LADDER = (1e-3, 1e-5, 0.0)
-#: Ipopt options for the warm-started ladder (start points are nearly feasible)
-IPOPT_OPTIONS = {"tol": 1e-8, "acceptable_tol": 1e-6, "constr_viol_tol": 1e-9, "mu_init": 1e-6,
-                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 150, "mumps_pivot_order": 0,
-                 # Ipopt relaxes bounds by 1e-8 by default: a tension N = +1e-8 on an open joint
-                 # times xi at its bound makes a fake, lower alpha_K (measured on wall55: 4.5e-5).
-                 "bound_relax_factor": 0.0}
 
 
 #: Ipopt's return codes in a word or two (runs.csv's status column)
@@ -150,7 +143,7 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
         opts = dict(IPOPT_OPTIONS)
         opts.update(options or {})
         if mult is not None:
-            opts.update(warm_start_init_point="yes", warm_start_bound_push=1e-9, warm_start_mult_bound_push=1e-9)
+            opts.update(IPOPT_WARM_OPTIONS)
         if deadline.at is not None:
             left = deadline.left()
             if left <= 0.5:

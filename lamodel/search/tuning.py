@@ -19,9 +19,9 @@ LP_TOLERANCE = 1e-9
 #: infeasibility 6e-6) and HiGHS falls back to a dual simplex clean-up of 44,000 iterations
 #: (150 s); from the 1e-7 crossover basis the warm primal simplex takes a few iterations.
 IPM_TOLERANCE = 1e-7
-#: LPs with more columns than this start cold with the interior point method plus
-#: crossover: a cold simplex start on a large, degenerate statics LP takes minutes
-#: (820-block wall: 104 s against 7.5 s).
+#: LPs with more columns than this (the search's and the published methods' alike) start
+#: cold with the interior point method plus crossover: a cold simplex start on a large,
+#: degenerate statics LP takes minutes (820-block wall: 104 s against 7.5 s).
 IPM_COLUMNS = 1500
 #: LPs with at most this many columns run in the calling thread: every solve takes
 #: milliseconds and HiGHS's interrupt callback suffices, where a thread costs ~1 ms a solve.
@@ -131,3 +131,28 @@ DEFAULT_STARTS = 2
 #: Without a time limit and without --starts, a start runs only if estimated to take at
 #: most this many seconds (the default run stays fast; ask with --starts for more).
 POLISH_SECONDS = 1.0
+#: With a time limit, the Ipopt starts may have at most this share of it (a start estimated
+#: to take longer is skipped); the search runs in the rest.
+POLISH_SHARE = 0.5
+#: The GA's fitness of a genome that certifies nothing: this plus the best alpha (worse than
+#: any certified state; alpha is a multiplier of order 1).
+NO_CERTIFICATE = 10.0
+
+# ==================================================================== Ipopt on eq. (5)
+#: The epsilon ladder of the relaxed bilinear condition 0 <= alpha_K - alpha <= epsilon, as
+#: fractions of max(1, alpha); the last stage is eq. (5) exactly.
+EPSILON_LADDER = (1e-3, 1e-5, 0.0)
+#: Ipopt options for the warm-started ladder (its start points are nearly feasible).
+IPOPT_OPTIONS = {"tol": 1e-8, "acceptable_tol": 1e-6, "constr_viol_tol": 1e-9, "mu_init": 1e-6,
+                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 150, "mumps_pivot_order": 0,
+                 # Ipopt relaxes bounds by 1e-8 by default: a tension N = +1e-8 on an open joint
+                 # times xi at its bound makes a fake, lower alpha_K (measured on wall55: 4.5e-5).
+                 "bound_relax_factor": 0.0}
+#: ... and those of every warm-started stage after the first (the previous stage's point and
+#: multipliers pushed into the bounds no further than this).
+IPOPT_WARM_OPTIONS = {"warm_start_init_point": "yes", "warm_start_bound_push": 1e-9,
+                      "warm_start_mult_bound_push": 1e-9}
+#: Estimated seconds of one Ipopt start: IPOPT_ITERATIONS iterations of IPOPT_SECONDS_1020
+#: (nb / 1020)^IPOPT_GROWTH each (measured with Debian's Ipopt 3.11 and sequential MUMPS:
+#: 12 ms at 55 blocks, 2.4 s at 1020).
+IPOPT_ITERATIONS, IPOPT_SECONDS_1020, IPOPT_GROWTH = 250, 2.4, 1.8

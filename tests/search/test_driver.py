@@ -37,6 +37,7 @@ def test_wall33_reaches_ferris_and_tin_loi(wall33):
     assert o.best.alpha <= o.alpha_associative
 
 
+@pytest.mark.slow
 def test_ipopt_start_is_certified():
     s = structure_from_json(stack_spec(n=3, width=1.0, height=1.0))
     o = solve(s, SolveOptions(starts=1, workers=1))
@@ -45,6 +46,7 @@ def test_ipopt_start_is_certified():
     assert len(ipopt) == 1 and ipopt[0].alpha_certified == pytest.approx(1 / 3, abs=1e-9)
 
 
+@pytest.mark.slow
 def test_solve_script_output_contract(tmp_path):
     out = tmp_path / "res"
     p = run_script("solve.py", INSTANCES / "wall33.dat", "--out", out, "--starts", "1", "--quiet")
@@ -71,6 +73,7 @@ def test_solve_script_output_contract(tmp_path):
     assert "alpha = 0.6389" in p.stdout
 
 
+@pytest.mark.slow
 def test_exit_codes(tmp_path):
     assert run_script("solve.py", tmp_path / "missing.dat").returncode == 2
     bad = tmp_path / "bad.dat"
@@ -88,6 +91,7 @@ def test_exit_codes(tmp_path):
     assert p.returncode == 3 and "unstable under dead load" in p.stdout
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["wall33", "wall55", "arch", "portal", "portal_columns"])
 def test_every_instance_certifies_from_dat_and_json_alike(name):
     from lamodel.io.datfile import read_dat
@@ -98,6 +102,7 @@ def test_every_instance_certifies_from_dat_and_json_alike(name):
     assert a.best.alpha <= a.alpha_associative + 1e-9
 
 
+@pytest.mark.slow
 def test_time_limit_is_honoured_on_a_larger_wall():
     """A 255-block wall (its search takes far longer than the limit): the driver stops within
     max(10 %, 2 s) of --time-limit (measured: well under), with a certified state or an

@@ -21,6 +21,8 @@ from lamodel.search.driver import solve
 from lamodel.search.gap import certify as gap_certify
 from lamodel.search.options import SolveOptions
 
+pytestmark = pytest.mark.slow  # they start processes or clusters, or take seconds
+
 ROOT = Path(__file__).resolve().parents[2]
 INSTANCES = ROOT / "instances"
 #: what a run's CSV tables may differ in: how long it took
@@ -99,8 +101,8 @@ def test_iteration_caps_leave_the_answer_to_the_seed(monkeypatch):
     cut = []
     lp_solve = highs.HighsLP.solve
 
-    def counting(self, cap=None):
-        status = lp_solve(self, cap)
+    def counting(self, cap=None, deadline=None):
+        status = lp_solve(self, cap, deadline)
         if status == "iteration limit":
             cut.append(self.name)
         return status

@@ -13,13 +13,12 @@ from lamodel.search.options import Deadline, Stopped
 from conftest import INSTANCES
 from gap.helpers import bond
 
-pytestmark = pytest.mark.slow
-
 
 def _stopping_at(fire):
     return Deadline.after(None, lambda: bool(fire) and time.monotonic() >= fire[0])
 
 
+@pytest.mark.slow
 def test_stop_during_the_first_cold_lp():
     """A stop asked for during the first (cold, interior point + crossover) LP of a
     medium wall takes effect within a slice, not when HiGHS finishes; the LP then
@@ -35,6 +34,7 @@ def test_stop_during_the_first_cold_lp():
         p.statics(maximize=True)
 
 
+@pytest.mark.slow
 def test_stop_where_highs_calls_no_callback():
     """HiGHS's crossover calls no interrupt callback; the worker thread makes that not
     matter: with HiGHS's callbacks off, a stop still returns at once."""
@@ -75,6 +75,7 @@ def test_a_capped_solve_returns_to_its_starting_basis():
     assert p.statics()[0] == "optimal"  # uncapped, the same LP solves
 
 
+@pytest.mark.slow
 def test_a_capped_solve_that_crawls_stops_at_its_backstop_as_if_capped(monkeypatch):
     """HiGHS's dual simplex on near-singular bases once took 25 s for 241 iterations of a
     capped certification LP (1020 blocks): a capped solve also stops after a time backstop,

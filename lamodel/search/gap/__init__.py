@@ -53,9 +53,5 @@ class GapSearch:
     def deadline(self) -> Deadline:
         return self.problem.deadline
 
-    def use_deadline(self, deadline: Deadline):
-        """From now on this search and its LPs stop at ``deadline``."""
-        self.problem.use_deadline(deadline)
-
     def n_lps(self) -> int:
         return self.problem.n_lps()

@@ -70,12 +70,12 @@ class Fitness:
                     reference_N=self.reference_N(),
                     certified=dict(self.certifier.cache), descended=dict(self.descent.cache))
 
-    def evaluate_pure(self, snap: dict, genome, chain_steps):
+    def evaluate_pure(self, snap: dict, genome, chain_steps, deadline):
         """:meth:`evaluate` as a pure function of (snapshot, genome): the LPs restart from
         the snapshot's bases on new HiGHS objects, the caches are the snapshot's and the
         record emptied, so the outcome does not depend on what this engine evaluated
         before (nor on which thread, process or machine, or how many run: every cap is
-        counted in iterations). Returns (alpha, certified states in the order found
+        counted in iterations); its LPs stop at ``deadline``. Returns (alpha, certified states in the order found
         (scaled units), LP solves, what it learned: its additions to the caches and the
         bases it ended with)."""
         p = self.problem
@@ -86,7 +86,8 @@ class Fitness:
         found = []
         self.record.on_state = found.append
         lps = p.n_lps()
-        alpha = self.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
+        with p.until(deadline):
+            alpha = self.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
         learned = dict(certified={k: v for k, v in self.certifier.cache.items() if k not in snap["certified"]},
                        descended={k: v for k, v in self.descent.cache.items() if k not in snap["descended"]},
                        bases=p.bases())

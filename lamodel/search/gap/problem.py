@@ -16,6 +16,7 @@ takes a state back to the user's units, re-checked there.
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 
 import numpy as np
 import scipy.sparse as sp
@@ -40,7 +41,8 @@ class ScaledProblem:
 
     ``stat`` is the statics LP (columns lambda, alpha), ``coh`` the cohesive LP (columns
     n1, n2, V per contact, alpha) and ``coh_r`` a copy of it for mechanisms restricted to
-    some rows. Methods raise :class:`~lamodel.search.options.Stopped` at the deadline.
+    some rows. Every solve is given ``deadline`` (:meth:`until` gives another for a while);
+    methods raise :class:`~lamodel.search.options.Stopped` when it fires.
     """
 
     def __init__(self, structure: Structure, deadline: Deadline | None = None, verbose: int = 0):
@@ -71,7 +73,7 @@ class ScaledProblem:
         self.nl = 4 * nc
         lo = np.zeros(self.nl + 1)
         hi = np.full(self.nl + 1, INF)
-        self.stat = HighsLP(Ag, -self.f0, np.zeros(self.nl + 1), lo, hi, self.deadline, "statics")
+        self.stat = HighsLP(Ag, -self.f0, np.zeros(self.nl + 1), lo, hi, "statics")
         # --- fictitious cohesive LP: columns (n1, n2, V) per contact, alpha
         self.Tc = cohesive_matrix(s)
         Ac = sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)]).tocsc()
@@ -86,10 +88,10 @@ class ScaledProblem:
         cost[-1] = -self.obj_scale
         clo = np.zeros(3 * nc + 1)
         chi = np.full(3 * nc + 1, INF)
-        self.coh = HighsLP(Ac, -self.f0, cost, clo, chi, self.deadline, "cohesive")
+        self.coh = HighsLP(Ac, -self.f0, cost, clo, chi, "cohesive")
         # Restricted mechanisms (flow allowed on some rows only) get their own copy: switching
         # one LP between the two kinds cost 10-17 s a re-solve at 2040 blocks.
-        self.coh_r = HighsLP(Ac, -self.f0, cost, clo, chi, self.deadline, "cohesive-r")
+        self.coh_r = HighsLP(Ac, -self.f0, cost, clo, chi, "cohesive-r")
         self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}  # (snapshots name them)
         if verbose > 1:
             for lp in self.lps.values():
@@ -104,11 +106,15 @@ class ScaledProblem:
         """LP solves so far, those of evaluations merged from elsewhere included."""
         return sum(lp.n_solves for lp in self.lps.values()) + self.lps_elsewhere
 
-    def use_deadline(self, deadline: Deadline):
-        """From now on the LPs stop at ``deadline``."""
-        self.deadline = deadline
-        for lp in self.lps.values():
-            lp.deadline = deadline
+    @contextmanager
+    def until(self, deadline: Deadline):
+        """Within the block, every LP solve is given ``deadline`` (e.g. a pure evaluation's,
+        or the whole time limit for the Ipopt points after the search's share)."""
+        before, self.deadline = self.deadline, deadline
+        try:
+            yield self
+        finally:
+            self.deadline = before
 
     def bases(self):
         """The LPs' current bases (portable: they pickle), by name."""
@@ -133,7 +139,7 @@ class ScaledProblem:
             hi[:self.nl][self.zeroed(held)] = 0.0
         self.stat.set_cost(cost)
         self.stat.set_bounds(np.zeros(self.nl + 1), hi)
-        status = self.stat.solve(cap)
+        status = self.stat.solve(cap, self.deadline)
         if status != "optimal":
             return status, None
         x = np.maximum(self.stat.x(), 0.0)
@@ -181,7 +187,7 @@ class ScaledProblem:
             lp.h.setBasis(self.coh.h.getBasis())  # start from the unrestricted one's basis
             lp.cold = False
         lp.set_bounds(lo, hi)
-        status = lp.solve()
+        status = lp.solve(deadline=self.deadline)
         if status != "optimal":
             return status, np.nan, None, None, None
         x = lp.x()

@@ -20,8 +20,8 @@ def _after_first_certificate(name):
 
 
 def _evaluator(e):
-    """An engine of its own on the same structure and deadline (as a GA worker has)."""
-    return GapSearch(e.problem.user, e.deadline)
+    """An engine of its own on the same structure (as a GA worker has)."""
+    return GapSearch(e.problem.user)
 
 
 def test_evaluate_genome():
@@ -43,8 +43,8 @@ def test_an_evaluation_does_not_depend_on_what_its_engine_did_before():
     rng = np.random.default_rng(3)
     genomes = [s * rng.standard_normal(e.problem.nc) for s in (0.1, 0.3, 1.0, 0.3, 1.0)]
     forward, backward = _evaluator(e), _evaluator(e)
-    a = [forward.fitness.evaluate_pure(snap, g, 3) for g in genomes]
-    b = [backward.fitness.evaluate_pure(snap, g, 3) for g in genomes[::-1]][::-1]
+    a = [forward.fitness.evaluate_pure(snap, g, 3, e.deadline) for g in genomes]
+    b = [backward.fitness.evaluate_pure(snap, g, 3, e.deadline) for g in genomes[::-1]][::-1]
     for (alpha_a, states_a, lps_a, _), (alpha_b, states_b, lps_b, _) in zip(a, b):
         assert alpha_a == alpha_b and lps_a == lps_b
         assert [s.alpha for s in states_a] == [s.alpha for s in states_b]
@@ -59,7 +59,8 @@ def test_merged_states_are_recorded_as_if_found_here():
     before, lps = e.record.best.alpha, e.n_lps()
     seen = []
     e.record.on_state = seen.append
-    alpha, states, n, learned = _evaluator(e).fitness.evaluate_pure(e.fitness.snapshot(), np.zeros(e.problem.nc), 3)
+    alpha, states, n, learned = _evaluator(e).fitness.evaluate_pure(e.fitness.snapshot(), np.zeros(e.problem.nc), 3,
+                                                                    e.deadline)
     e.fitness.merge(states, n, learned)
     assert e.n_lps() == lps + n and len(seen) == len(states)
     assert e.record.best.alpha <= min([before] + [s.alpha for s in states]) + 1e-15
@@ -72,5 +73,6 @@ def test_a_snapshot_pickles_and_an_evaluation_from_its_copy_is_the_same():
     snap = e.fitness.snapshot()
     copy = pickle.loads(pickle.dumps(snap))
     genome = 0.3 * np.random.default_rng(0).standard_normal(e.problem.nc)
-    a, b = _evaluator(e).fitness.evaluate_pure(snap, genome, 3), _evaluator(e).fitness.evaluate_pure(copy, genome, 3)
+    a = _evaluator(e).fitness.evaluate_pure(snap, genome, 3, e.deadline)
+    b = _evaluator(e).fitness.evaluate_pure(copy, genome, 3, e.deadline)
     assert a[0] == b[0] and a[2] == b[2] and [s.alpha for s in a[1]] == [s.alpha for s in b[1]]
