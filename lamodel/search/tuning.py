@@ -89,8 +89,12 @@ SEARCH_ACTIVE = tuple(t for t in ACTIVE_TOLERANCES if t != 1e-4)
 #: A gap step with flow on slack rows forbidden lets flow only where the slack is below this
 #: (relative): the loosest of the ladder.
 FORBID_ACTIVE = ACTIVE_TOLERANCES[-1]
-#: Pressure step: how many of the most pushing held rows are released one by one.
-PRESSURE_SINGLE = 8
+#: Pressure step: how many of the most pushing held rows are released one by one, then how
+#: many of the top ones together.
+PRESSURE_SINGLE, PRESSURE_GROUPS = 8, (2, 4, 8)
+#: Caps on steps (safety bounds, not tuned: every run measured so far ends on its own stall
+#: rule first): mechanism/gap steps per rho, descent steps from a certified state.
+ALTERNATION_MAX_STEPS, DESCENT_MAX_STEPS = 200, 30
 #: A held lambda "pushes" when its reduced cost is below -PUSH: round-off margin.
 PUSH = 1e-12
 

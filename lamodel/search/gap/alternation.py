@@ -20,8 +20,8 @@ import time
 import numpy as np
 
 from ..highs import INF
-from ..tuning import (ACTIVE_TOLERANCES, FORBID_ACTIVE, GAP_CERTIFY, GAP_FORBID, GAP_HOLD, IMPROVEMENT, NEAR_FLOW,
-                      RHO_MAIN, STALL)
+from ..tuning import (ACTIVE_TOLERANCES, ALTERNATION_MAX_STEPS, FORBID_ACTIVE, GAP_CERTIFY, GAP_FORBID, GAP_HOLD,
+                      IMPROVEMENT, NEAR_FLOW, RHO_MAIN, STALL)
 from .certify import Certifier
 from .descent import Descent
 from .problem import ScaledProblem
@@ -34,7 +34,7 @@ class Alternation:
     def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, record: Record):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
 
-    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=200, forbid_slack=False):
+    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=ALTERNATION_MAX_STEPS, forbid_slack=False):
         """Mechanism step / gap step from the statics x until alpha + rho gap stops falling.
 
         Certifies whenever the gap is small; returns the best certified state of the run

@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ..tuning import ACTIVE_TOLERANCES, DESCENT_STEP, PRESSURE_SINGLE, PUSH
+from ..tuning import ACTIVE_TOLERANCES, DESCENT_MAX_STEPS, DESCENT_STEP, PRESSURE_GROUPS, PRESSURE_SINGLE, PUSH
 from .certify import Certifier
 from .problem import ScaledProblem
 from .record import Record
@@ -24,7 +24,7 @@ class Descent:
         self.problem, self.certifier, self.record = problem, certifier, record
         self.cache = {}   # flow pattern of a certified state -> its descent
 
-    def descend(self, state, max_steps=30):
+    def descend(self, state, max_steps=DESCENT_MAX_STEPS):
         """From a certified state: restricted mechanisms, then pressure steps, while alpha falls."""
         key = state.flow.tobytes()
         if key in self.cache:
@@ -84,7 +84,7 @@ class Descent:
         allowed0 = p.active_rows(state.lam, ACTIVE_TOLERANCES[1])
         # the most pushing rows one at a time, then the top ones together
         trials = [order[i:i + 1] for i in range(min(PRESSURE_SINGLE, order.size))]
-        trials += [order[:n] for n in (2, 4, 8) if n <= order.size]
+        trials += [order[:n] for n in PRESSURE_GROUPS if n <= order.size]
 
         def released(rel):
             allowed = allowed0.copy()
