@@ -56,12 +56,11 @@ class Evaluators:
         return outcome
 
 
-def _on_dask_worker(key, structure, snap, genome, chain, seconds_left):
+def _on_dask_worker(key, structure, snap, genome, chain, deadline):
     """A Dask task: one pure evaluation on this worker's engines of the structure.
-    Stopped (the time limit, measured here as the seconds the search had left when it
-    submitted) comes back as None, never raised: Dask would retry a task that raises."""
+    Stopped (the time limit: the deadline travels as the seconds the search had left when
+    it submitted) comes back as None, never raised: Dask would retry a task that raises."""
     from .executor import context
-    deadline = Deadline.after(seconds_left)
     try:
         return context(key, structure, Evaluators).evaluate(snap, genome, chain, deadline)
     except Stopped:
@@ -116,10 +115,8 @@ class _Dask:
         from .executor import share
         g, self.generation = self.generation, self.generation + 1
         self.snapshot = share(self.client, snap, f"{self.run}-{g}")
-        left = self.deadline.left()
-        left = None if left == math.inf else max(left, 0.0)
         return [_DaskOutcome(self.client.submit(_on_dask_worker, self.key, self.structure, self.snapshot, z,
-                                                self.chain, left, key=f"lamodel-ga-{self.run}-{g}-{i}",
+                                                self.chain, self.deadline, key=f"lamodel-ga-{self.run}-{g}-{i}",
                                                 retries=1, pure=False))
                 for i, z in enumerate(X)]
 

@@ -89,7 +89,7 @@ class _InlinePool:
 class _DaskPool:
     """The pool interface on a dask.distributed cluster: each worker builds the model once
     per structure (:func:`lamodel.search.executor.context`); a deadline travels as the
-    seconds left (clocks of other machines differ)."""
+    seconds left (its pickled form)."""
 
     def __init__(self, structure, opt):
         from .executor import Executor, fingerprint, share
@@ -100,7 +100,6 @@ class _DaskPool:
         self.pool = client.get_executor(retries=1, pure=False)
 
     def submit(self, fn, *args):
-        args = tuple(("seconds left", a.left()) if isinstance(a, Deadline) and a.at is not None else a for a in args)
         return self.pool.submit(_on_dask_worker, self.key, self.shared, fn, *args)
 
     def shutdown(self, wait=True, cancel_futures=False):
@@ -119,7 +118,6 @@ _MODEL_LOCK = threading.Lock()  # one Pyomo model per worker: its threads take t
 
 def _on_dask_worker(key, shared, fn, *args):
     from .executor import context
-    args = tuple(Deadline.after(a[1]) if isinstance(a, tuple) and a[:1] == ("seconds left",) else a for a in args)
     with _MODEL_LOCK:
         _WORKER.update(context(key, shared, _prepare_model))
         return fn(*args)
