@@ -1,18 +1,17 @@
 #!/usr/bin/env python3
-"""How the LP search engine (lamodel/search/engine.py) scales: issue 10's benchmark table.
+"""How the search (lamodel.search.driver.solve, what ``lamodel solve`` runs) scales.
 
     python benchmarks/scale.py                               # everything, 60 s budget a case
     python benchmarks/scale.py --cases bond10,bond40 --budget 60
     python benchmarks/scale.py --cases wall33,wall55,door1 --budget 0   # default stopping rule
-    python benchmarks/scale.py --driver --cases bond40 --budget 60     # the whole search of lamodel solve
 
 Cases: ``wall33``/``wall55`` (the seed's Table 1), ``bondC`` (running bond of C courses of
 25 blocks: courses alternate, from the bottom, 1/2 + 24 + 1/2 and 25 full blocks, as the
 seed's panels), and ``doorK`` (walls with a door and windows,
 :func:`lamodel.geometry.wall_with_openings`). Each
 case runs in its own process (peak memory is that process's ru_maxrss), timed from the
-engine's construction. ``--budget S`` is the time limit; 0 means no limit (the engine's
-own stopping rule). Prints one row per case and the growth exponent of the time to the
+search's start. ``--budget S`` is the time limit; 0 means no limit (the search's own
+stopping rule). Prints one row per case and the growth exponent of the time to the
 first certificate against the number of blocks (least squares in log-log).
 """
 from __future__ import annotations
@@ -58,12 +57,25 @@ def build(case: str):
 
 
 # ------------------------------------------------------------------------ runs
-def run_driver(case, budget, seed, queue):
-    """The product's search (lamodel.search.driver.solve: engine, GA with its stopping rule,
-    Ipopt when affordable), with ``budget`` as --time-limit."""
+def run_case(case, budget, seed, queue, sigint_at=None):
+    """The product's search (lamodel.search.driver.solve: the LP search, the GA with its
+    stopping rule, Ipopt when affordable), with ``budget`` as --time-limit; ``sigint_at``:
+    send SIGINT (Ctrl-C) to this process that many seconds after the start."""
+    import os
+    import signal
+    import threading
     from lamodel.search.driver import SolveOptions, solve
     s = build(case)
+    sent = []
+    if sigint_at is not None:
+        def send():
+            sent.append(time.perf_counter())
+            os.kill(os.getpid(), signal.SIGINT)
+        timer = threading.Timer(sigint_at, send)
+        timer.daemon = True
+        timer.start()
     o = solve(s, SolveOptions(seed=seed, time_limit=budget if budget > 0 else None, progress=False))
+    latency = time.perf_counter() - sent[0] if sent else np.nan
     row = dict(case=case, blocks=s.n_blocks, contacts=s.n_contacts, status=o.status,
                assoc=o.alpha_associative, t_assoc=o.phases.get("associative", np.nan),
                first=o.first[0], t_first=o.first[1], best=o.best.alpha if o.best else np.nan,
@@ -72,43 +84,7 @@ def run_driver(case, budget, seed, queue):
                phases={k: round(v, 2) for k, v in o.phases.items()},
                rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
                residual=max(o.best.residual.values()) if o.best else np.nan,
-               interrupted="time limit" in o.message, latency=np.nan)
-    queue.put(row)
-
-
-def run_case(case, budget, seed, queue, sigint_at=None):
-    import os
-    import signal
-    import threading
-    from lamodel.search.engine import GapSearch, Deadline
-    s = build(case)
-    t0 = time.perf_counter()
-    deadline = Deadline.after(budget if budget > 0 else None)
-    sent = []
-    if sigint_at is not None:
-        # Ctrl-C as search() handles it: the handler sets the deadline's flag
-        def on_sigint(signum, frame):
-            deadline.flag = True
-        signal.signal(signal.SIGINT, on_sigint)
-
-        def send():
-            sent.append(time.perf_counter())
-            os.kill(os.getpid(), signal.SIGINT)
-        timer = threading.Timer(sigint_at, send)
-        timer.daemon = True
-        timer.start()
-    eng = GapSearch(s, deadline, seed=seed)
-    t_build = time.perf_counter() - t0
-    res = eng.run()
-    latency = time.perf_counter() - sent[0] if sent else np.nan
-    row = dict(case=case, blocks=s.n_blocks, contacts=s.n_contacts, status=res.status,
-               assoc=res.associative, t_assoc=eng.phases.get("associative", np.nan) + t_build,
-               first=res.first_alpha, t_first=res.first_time, best=res.alpha, t_best=res.history[-1][0]
-               if res.history else np.nan, total=res.seconds, lps=res.n_lps,
-               phases={k: round(v, 2) for k, v in res.phases.items()},
-               rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-               residual=max(res.best.residual.values()) if res.best else np.nan,
-               interrupted=res.interrupted, latency=latency)
+               interrupted=o.status == "interrupted" or "time limit" in o.message, latency=latency)
     queue.put(row)
 
 
@@ -119,10 +95,7 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", help="append the rows to this JSON-lines file")
     ap.add_argument("--sigint-at", type=float, help="send SIGINT (Ctrl-C) this many seconds after the "
-                    "engine's construction starts; the row ends with the latency (s) from the signal to "
-                    "the engine's return")
-    ap.add_argument("--driver", action="store_true", help="time lamodel.search.driver.solve (what lamodel solve "
-                    "runs: the engine, the GA and its stopping rule) instead of the engine alone")
+                    "search starts; the row ends with the latency (s) from the signal to the search's return")
     a = ap.parse_args(argv)
     ctx = mp.get_context("fork")
     rows = []
@@ -131,10 +104,7 @@ def main(argv=None):
     print(head, flush=True)
     for case in a.cases.split(","):
         q = ctx.Queue()
-        if a.driver:
-            p = ctx.Process(target=run_driver, args=(case, a.budget, a.seed, q))
-        else:
-            p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q, a.sigint_at))
+        p = ctx.Process(target=run_case, args=(case, a.budget, a.seed, q, a.sigint_at))
         p.start()
         row = q.get()
         p.join()

@@ -13,7 +13,7 @@ pictures, comparison), :mod:`lamodel.cli`.
 
 The names below load on first use: ``import lamodel`` does not import Pyomo, so reading
 results or comparing them starts quickly. ``SolverFactory('lamodel_ipopt')`` (Debian's
-libipopt through cyipopt) is registered by :mod:`lamodel.search.bridge`, which the Pyomo
+libipopt through cyipopt) is registered by :mod:`lamodel.solvers.bridge`, which the Pyomo
 model imports, and at ``import lamodel`` when Pyomo is already loaded.
 """
 import sys
@@ -58,4 +58,4 @@ def __dir__():
 
 
 if "pyomo.environ" in sys.modules:  # a Pyomo user: SolverFactory('lamodel_ipopt') at no extra cost
-    import_module("lamodel.search.bridge")
+    import_module("lamodel.solvers.bridge")

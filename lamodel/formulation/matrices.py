@@ -1,15 +1,18 @@
 """Eq. (1)-(5) as sparse matrices: the one place where the mechanics is written.
 
 Everything that solves or checks eq. (5) — the Pyomo model (:mod:`.model`), the LPs of the
-search (:mod:`lamodel.search.lp`), the certification and the tests — takes its
-coefficients from here. Conventions are those of :mod:`lamodel.structure`:
+search (:mod:`lamodel.search.gap.problem`, :mod:`lamodel.search.lp`), the certification
+and the tests — takes its coefficients from here. Conventions are those of :mod:`lamodel.structure`:
 
 * statics ``s = (N, V, M, alpha)`` (eq. 3); equilibrium ``A s_f + f0 + alpha fbar = 0``
   (eq. 1-2), A of size 3 nb x 3 nc, block rows ``(f_x, f_y, m)``;
 * yield ``Y s_f <= 0`` (eq. 4), rows stacked by kind slide+, slide-, hinge+, hinge-;
 * kinematics of the fictitious cohesive system ``-A^T u = G^T xi``, ``xi >= 0``,
   ``fbar^T u = 1``;
-* ``alpha_K = -u^T f0 - xi^T N_mu s_N`` (eq. 5).
+* ``alpha_K = -u^T f0 - xi^T N_mu s_N`` (eq. 5);
+* the same statics in friction-cone generator form ``s_f = T lambda``, ``lambda >= 0``
+  (:func:`generator_matrix`), and the columns of the fictitious cohesive LP
+  (:func:`cohesive_matrix`).
 """
 from __future__ import annotations
 
@@ -87,6 +90,57 @@ def flow_matrix(s: Structure) -> sp.csr_matrix:
     I = sp.identity(nc, format="csr")
     D, Z = sp.diags(s.d), sp.csr_matrix((nc, nc))
     return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
+
+
+def generator_matrix(structure: Structure) -> sp.csr_matrix:
+    """T (3 nc x 4 nc): the four friction-cone generators of a contact as (N, V, M).
+
+    Generator ``(j, +/-)`` is the unit-compression force ``-n +/- mu t`` at end point j of
+    the contact (j = 1: centre + d t; j = 2: centre - d t). Moved to the contact centre
+    it is ``N = -1``, ``V = +/- mu`` and the couple ``(+/- d t) x (-n) = +/- d``. Columns
+    are ordered 1+, 1-, 2+, 2- contact after contact. With it, the admissible set of
+    eq. (1)-(4) is ``A T lambda + alpha fbar = -f0`` with lambda >= 0 (every (N, V, M) of
+    the cone is such a combination and vice versa).
+    """
+    nc = structure.n_contacts
+    mu, d = structure.mu, structure.d
+    k = np.arange(nc)
+    rows, cols, vals = [], [], []
+    for g, (sv, sm) in enumerate(((1, 1), (-1, 1), (1, -1), (-1, -1))):
+        col = 4 * k + g
+        rows += [k, nc + k, 2 * nc + k]
+        cols += [col, col, col]
+        vals += [-np.ones(nc), sv * mu, sm * d]
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * nc, 4 * nc))
+
+
+def cohesive_matrix(structure: Structure) -> sp.csr_matrix:
+    """Tc (3 nc x 3 nc): columns (n1, n2, V) per contact for the fictitious cohesive LP.
+
+    n1, n2 >= 0 are the compressions at the two end points (``N = -(n1 + n2)``,
+    ``M = d (n1 - n2)``: the hinge rows of eq. (4) as signs), V the shear, bounded by the
+    cohesion. Columns ordered n1, n2, V contact after contact.
+    """
+    nc = structure.n_contacts
+    d = structure.d
+    k = np.arange(nc)
+    rows = [k, 2 * nc + k, k, 2 * nc + k, nc + k]
+    cols = [3 * k, 3 * k, 3 * k + 1, 3 * k + 1, 3 * k + 2]
+    vals = [-np.ones(nc), d, -np.ones(nc), -d, np.ones(nc)]
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * nc, 3 * nc))
+
+
+def held_generators(nc: int) -> np.ndarray:
+    """(4 nc, 2): the two generators (columns of :func:`generator_matrix`) whose lambdas a
+    yield row's slack is made of, row by row (slide+, slide-, hinge+, hinge-).
+
+    Holding a yield row at equality is fixing those two lambdas at 0: slide+ {1-, 2-},
+    slide- {1+, 2+}, hinge+ {1+, 1-}, hinge- {2+, 2-}. From the pattern, not from the
+    slacks' nonzeros: with mu = 0 a slide's slack coefficients vanish (and holding it
+    constrains nothing more).
+    """
+    k4 = 4 * np.arange(nc)
+    return np.concatenate([np.column_stack([k4 + a, k4 + b]) for a, b in ((1, 3), (0, 2), (0, 1), (2, 3))])
 
 
 def xi_bounds(s: Structure, factor: float = 100.0) -> np.ndarray:

@@ -34,7 +34,7 @@ from pyomo.core.expr.numeric_expr import LinearExpression, MonomialTermExpressio
 from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Constraint, Expression, NonNegativeReals,
                            Objective, Param, Reals, Set, Var, minimize, inequality)
 
-from ..search import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt') for the users of the model
+from ..solvers import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt') for the users of the model
 from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, YIELD_ROWS, Structure
 from .matrices import Formulation, xi_bounds
 

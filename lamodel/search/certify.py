@@ -21,11 +21,10 @@ import numpy as np
 
 from .lp import LimitLPs
 from .state import CollapseState
+from .tuning import ACTIVE_TOLERANCES, FLOW_TOL, IMPROVEMENT, RESIDUAL_TOLERANCE
 
-#: Relative tolerances tried, tightest first, to decide which yield rows a candidate holds.
-ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
-#: A certified state must satisfy every condition to this relative accuracy.
-RESIDUAL_TOLERANCE = 1e-7
+__all__ = ["ACTIVE_TOLERANCES", "RESIDUAL_TOLERANCE", "certify", "certify_flow", "descend", "force_scale",
+           "residuals"]
 
 
 def force_scale(lps: LimitLPs) -> float:
@@ -85,7 +84,7 @@ def _state_from(lps, st, u, xi, flow, source):
                          flow=flow.copy(), source=source, residual=res)
 
 
-def certify_flow(lps: LimitLPs, u, xi, source="", flow_tol=1e-9):
+def certify_flow(lps: LimitLPs, u, xi, source="", flow_tol=FLOW_TOL):
     """Certify a mechanism that is already exact (e.g. the duals of an LP): statics with
     its flowing rows held at equality. Returns a CollapseState or None."""
     xi = np.maximum(np.asarray(xi, dtype=float), 0.0)
@@ -128,7 +127,8 @@ def certify(lps: LimitLPs, N, V, M, alpha=None, u=None, xi=None, source="", tole
     return best
 
 
-def descend(lps: LimitLPs, state: CollapseState, max_steps: int = 50, tol: float = 1e-9) -> CollapseState:
+def descend(lps: LimitLPs, state: CollapseState, max_steps: int = 50,
+            tol: float = ACTIVE_TOLERANCES[0]) -> CollapseState:
     """Alternate the two certification LPs from a collapse state; alpha never increases.
 
     With the rows the statics holds at equality allowed to flow, the current mechanism is
@@ -141,7 +141,7 @@ def descend(lps: LimitLPs, state: CollapseState, max_steps: int = 50, tol: float
         if not mres.ok:
             break
         nxt = certify_flow(lps, u, xi, state.source)
-        if nxt is None or nxt.alpha >= state.alpha - 1e-12 * max(1.0, abs(state.alpha)):
+        if nxt is None or nxt.alpha >= state.alpha - IMPROVEMENT * max(1.0, abs(state.alpha)):
             break
         state = nxt
     return state

@@ -28,7 +28,7 @@ from scipy.sparse.linalg import splu
 from threadpoolctl import threadpool_limits
 
 from ..formulation.space import Formulation3D
-from .lp import INF, _HighsLP
+from .highs import INF, HighsLP
 
 #: A certified state satisfies every condition to this accuracy (one dimension).
 RESIDUAL_TOLERANCE = 1e-7
@@ -159,10 +159,10 @@ def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, facet
                         (np.concatenate([p, npt + p, 2 * npt + p]), np.concatenate([c, c, c]))), shape=(3 * npt, m))
     E = sp.hstack([form.A @ Tg, sp.csr_matrix(form.fbar.reshape(-1, 1))])
     cost = np.append(np.concatenate([np.full(g[0].size, g[2]) for g in gens]), 1.0)
-    lp = _HighsLP(cost, E, -form.f0, -form.f0, np.zeros(m + 1), np.full(m + 1, INF), LP_TOLERANCE)
-    status, x, _, _ = lp.solve()
-    if status != "optimal":
+    lp = HighsLP(E, -form.f0, cost, np.zeros(m + 1), np.full(m + 1, INF), name="certify3d")
+    if lp.solve() != "optimal":
         return None
+    x = lp.x()
     lam = np.maximum(x, 0.0)
     return np.concatenate([Tg @ lam[:m], [lam[-1]]])
 
@@ -193,10 +193,10 @@ def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     lo = np.concatenate([np.zeros(iz.size), np.zeros(k), np.full(k, -INF), np.zeros(2 * k), np.zeros(3 * j), [1.0]])
     hi = np.concatenate([np.full(iz.size, INF), np.zeros(k), np.zeros(k), np.full(2 * k, INF), np.zeros(3 * j), [1.0]])
     cost = -form.f0 + along.T @ (-mu * N * cone)  # alpha_K = -f0^T u + sum c (slip . T_hat)
-    lp = _HighsLP(cost, rows, lo, hi, np.full(6 * nb, -INF), np.full(6 * nb, INF), LP_TOLERANCE)
-    status, u, _, _ = lp.solve()
-    if status != "optimal":
+    lp = HighsLP(rows, lo, cost, np.full(6 * nb, -INF), np.full(6 * nb, INF), name="mechanism3d", b_hi=hi)
+    if lp.solve() != "optimal":
         return None
+    u = lp.x()
     return u, form.strains(u)
 
 

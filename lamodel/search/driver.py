@@ -1,20 +1,23 @@
 """The solver: least certified collapse multiplier of a frictional block assembly (eq. 5).
 
 The seed's frame — a genetic algorithm over the fictitious cohesions whose individuals
-become points of eq. (5), polished by Ipopt — on the LP engine of :mod:`.engine`:
+become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
 
 1. **Scale.** Forces by the mean dead load of a block, lengths by the size of the
-   structure: every LP and NLP is unit-free; states come back in the user's units.
-2. **First certificate.** From the associative statics, the gap alternation (mechanism
-   step, statics step on ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be
-   held; the certified state is descended (:meth:`GapSearch.alternate`, ``rescue``).
+   structure (:mod:`lamodel.formulation.scaling`): every LP and NLP is unit-free; states
+   come back in the user's units (:class:`.gap.problem.ScaledProblem`).
+2. **First certificate.** From the associative statics (:meth:`.gap.starts.Starts.associative`),
+   the gap alternation (:mod:`.gap.alternation`: mechanism step, statics step on
+   ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be held
+   (:mod:`.gap.certify`); the certified state is descended (:mod:`.gap.descent`); if
+   nothing is certified, the rescue (:meth:`.gap.starts.Starts.first_certificate`).
 3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
    Then two more starts from the associative statics: the same alternation with the
-   penalty rho raised from 10 and from 30 (:meth:`GapSearch.continuations`), which reach
-   other collapse states than the first (1020 blocks: 0.444923 against 0.445755).
+   penalty rho raised from 10 and from 30 (:meth:`.gap.starts.Starts.continuations`), which
+   reach other collapse states than the first (1020 blocks: 0.444923 against 0.445755).
 4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
-   best certified state. Fitness and local search: :meth:`GapSearch.evaluate` (the
-   cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each
+   best certified state. Fitness and local search: :meth:`.gap.fitness.Fitness.evaluate`
+   (the cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each
    certified state descended). Stopping rule: no improvement for a while, measured in
    evaluations and LP solves against those the first certificate took (counted, not
    timed: a seed gives the same answer on any machine), at most ``generations``
@@ -26,6 +29,7 @@ become points of eq. (5), polished by Ipopt — on the LP engine of :mod:`.engin
 
 Nothing uncertified is ever reported as a multiplier. Ctrl-C and the time limit reach
 inside every LP (HiGHS's interrupt callback); the best certified state so far is kept.
+Every tuned constant is in :mod:`.tuning`.
 """
 from __future__ import annotations
 
@@ -40,34 +44,19 @@ import numpy as np
 
 from ..structure import Structure
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
-from .ipopt import EPSILON_LADDER, start_pool
+from .ipopt import start_pool
 from .generations import Generations
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
-from .state import CollapseState, Run
+from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
+                    unstable_message)
+from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
+                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
-#: Ipopt starts when --starts is not given
-DEFAULT_STARTS = 2
-#: Without a time limit and without --starts, a start runs only if estimated to take at
-#: most this many seconds (the default run stays fast; ask with --starts for more).
-POLISH_SECONDS = 1.0
-#: GA genes: log-perturbations of the cohesions, within +-Z_MAX; the initial population's
-#: spreads cycle through Z_INIT.
-Z_MAX, Z_INIT = 3.0, (0.1, 0.3, 1.0)
-#: GA stopping rule: a population's worth of evaluations (measured: fewer missed a half
-#: block sliding out alone on a tied wall), and this many times the LP solves of the first
-#: certificate, without improvement.
-STALL_WORK = 3.0
-#: Relative tolerances on the yield slacks that say which rows an Ipopt point holds.
-ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
-
-
 def ipopt_seconds(n_blocks: int) -> float:
-    """Estimated seconds of one Ipopt start on eq. (5): about 250 iterations of
-    2.4 s (nb / 1020)^1.8 each (measured with Debian's Ipopt 3.11 and sequential MUMPS:
-    12 ms at 55 blocks, 2.4 s at 1020)."""
-    return 250 * 2.4 * (n_blocks / 1020.0) ** 1.8
+    """Estimated seconds of one Ipopt start on eq. (5) (the model of :mod:`.tuning`)."""
+    return IPOPT_ITERATIONS * IPOPT_SECONDS_1020 * (n_blocks / 1020.0) ** IPOPT_GROWTH
 
 
 @dataclass
@@ -78,7 +67,7 @@ class Outcome:
     best: CollapseState | None
     alpha_associative: float
     runs: list
-    status: str                # certified, unstable, no_collapse, not_certified, interrupted
+    status: str                # one of lamodel.search.state.STATUSES (all but failed)
     message: str
     wall_time_s: float
     seed: int
@@ -115,26 +104,33 @@ class _Progress:
         self.bar.close()
 
 
-def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
-    """Find the least certified collapse multiplier of the structure (see module doc)."""
-    from .engine import GapSearch, _scaled, _scales
+def solve(structure: Structure, options: SolveOptions | None = None, stop=None) -> Outcome:
+    """Find the least certified collapse multiplier of the structure (see module doc).
+
+    ``stop``: a callable returning True to stop early (e.g. ``event.is_set`` of an event set
+    by another thread), as Ctrl-C does: the best certified state so far is reported, with
+    the status ``interrupted``.
+    """
+    from ..formulation.scaling import scaled as scaled_structure, scales
+    from .gap import GapSearch
 
     opt = options or SolveOptions()
     t0 = time.perf_counter()
     structure.validate()
     opt.validate()
     _check_solver(opt)
-    stop = threading.Event()  # Ctrl-C
-    deadline = Deadline.after(opt.time_limit, stop.is_set)
+    sigint = threading.Event()  # Ctrl-C
+    asked = sigint.is_set if stop is None else (lambda: sigint.is_set() or bool(stop()))
+    deadline = Deadline.after(opt.time_limit, asked)
     plan = _polish_plan(structure, opt)
     # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
     # threads here, and build their models while the LPs run.
-    scaled = _scaled(structure, *_scales(structure))
+    scaled = scaled_structure(structure, *scales(structure))
     pool = start_pool(scaled, opt, plan["n"]) if plan["run"] else None
     # the search leaves the polish its share of a time limit
     search_deadline = deadline
     if plan["run"] and opt.time_limit is not None:
-        search_deadline = deadline.extended(-min(plan["reserve"], 0.5 * opt.time_limit))
+        search_deadline = deadline.extended(-min(plan["reserve"], POLISH_SHARE * opt.time_limit))
     progress = _Progress(opt.progress, opt.pop_size * opt.generations)
     archive = {}  # every certified state (scaled units), the least alpha per flow pattern
 
@@ -146,75 +142,76 @@ def solve(structure: Structure, options: SolveOptions | None = None) -> Outcome:
     def on_certified(user_state):
         progress.best(user_state.alpha)
 
-    old_handler = catch_sigint(stop.set)
+    old_handler = catch_sigint(sigint.set)
     engine = None
     runs: list[Run] = []
-    status, message, alpha_assoc = "not_certified", "", np.nan
+    status, message, alpha_assoc = NOT_CERTIFIED, "", np.nan
     try:
-        engine = GapSearch(structure, search_deadline, on_certified=on_certified, seed=opt.seed)
-        engine.on_state = on_state
+        engine = GapSearch(structure, search_deadline, on_certified=on_certified)
+        engine.record.on_state = on_state
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
         status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None))
-        runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, stop),
-                        _alpha(engine) if engine.best is not None else np.nan, engine.n_lps(),
+        runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
+                        engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),
                         time.perf_counter() - t_search))
-        if status == "certified" or (status == "not_certified" and engine.best is not None):
+        if status == CERTIFIED or (status == NOT_CERTIFIED and engine.record.best is not None):
             _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
         progress.close()
         restore_sigint(old_handler)
         if pool is not None:
-            _shutdown(pool, kill=stop.is_set() or deadline.expired())
-    if engine is not None and engine.best_user is not None and status in ("not_certified", "certified"):
-        status = "certified"
-    if stop.is_set():
-        status, message = "interrupted", "interrupted: the best certified state so far is reported"
-    elif status == "certified":
+            _shutdown(pool, kill=asked() or deadline.expired())
+    record = engine.record if engine is not None else None
+    if record is not None and record.best_user is not None and status in (NOT_CERTIFIED, CERTIFIED):
+        status = CERTIFIED
+    if asked():
+        status, message = INTERRUPTED, "interrupted: the best certified state so far is reported"
+    elif status == CERTIFIED:
         message = "certified collapse state"
-    if status in ("certified", "interrupted", "not_certified") and deadline.expired() and not stop.is_set():
+    if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and deadline.expired() and not asked():
         message += " (the time limit stopped the search)"
     runs.sort(key=lambda r: r.start)
-    best = engine.best_user if engine is not None and status in ("certified", "interrupted") else None
+    best = record.best_user if record is not None and status in (CERTIFIED, INTERRUPTED) else None
     return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
-                   first=engine.first if engine is not None and engine.first else (np.nan, np.nan),
-                   phases=dict(engine.phases) if engine is not None else {},
-                   history=list(engine.history) if engine is not None else [])
+                   first=record.first if record is not None and record.first else (np.nan, np.nan),
+                   phases=dict(record.phases) if record is not None else {},
+                   history=list(record.history) if record is not None else [])
 
 
 # ------------------------------------------------------------------------ the search
 def _search(engine, opt, progress, client=None):
     """Steps 2-4 of the module doc. Returns (status, message, associative alpha)."""
     alpha_assoc = np.nan
+    starts, record = engine.starts, engine.record
     try:
-        kind, alpha_assoc, x0 = engine.start()
-        engine.N_assoc = engine.N_of(x0) if x0 is not None else None
+        kind, alpha_assoc, x0 = starts.associative()
+        engine.fitness.N_assoc = engine.problem.N_of(x0) if x0 is not None else None
         if kind == "unstable":
-            return "unstable", _unstable_message(engine), np.nan
+            return UNSTABLE, _unstable_message(engine), np.nan
         if kind not in ("ok", "unbounded"):
-            return "not_certified", f"the associative LP failed ({kind})", alpha_assoc
+            return NOT_CERTIFIED, f"the associative LP failed ({kind})", alpha_assoc
         progress.phase("first certificate")
-        engine.first_certificate(x0)
+        starts.first_certificate(x0)
         # (stable() gives the statics LP back its basis near the collapse states: the GA's
         # evaluations, pure ones included, start from there, not from alpha = 0)
-        engine.checked_stable = engine.stable()
-        if not engine.checked_stable:
-            engine.best = engine.best_user = None
-            return "unstable", _unstable_message(engine), alpha_assoc
+        if not starts.stable():
+            record.best = record.best_user = None
+            return UNSTABLE, _unstable_message(engine), alpha_assoc
         lps_first = engine.n_lps()  # the work of the first certificate (the GA's stopping rule)
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
-            engine.continuations(x0)
+            starts.continuations(x0)
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")
         _genetic_search(engine, opt, progress, client, lps_first)
     except Stopped:
-        if engine.best is None:
+        if record.best is None:
             return _nothing_certified(engine, alpha_assoc, stopped=True)
-    if engine.best is None:
+    if record.best is None:
         return _nothing_certified(engine, alpha_assoc, stopped=False)
-    return "certified", "", alpha_assoc
+    return CERTIFIED, "", alpha_assoc
 
 
 def _genetic_search(engine, opt, progress, client=None, lps_first=None):
@@ -222,9 +219,9 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None):
     ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
     in parallel (:mod:`.generations`; ``client``: a Dask connection to use)."""
     from .ga import genetic_search
-    nc = engine.nc
+    nc, fitness_of, record = engine.problem.nc, engine.fitness, engine.record
     lps_first = max(engine.n_lps() if lps_first is None else lps_first, 1)  # the first certificate's work
-    state = {"evals": 0, "since": 0, "best": _alpha(engine), "lps": engine.n_lps()}
+    state = {"evals": 0, "since": 0, "best": record.alpha(), "lps": engine.n_lps()}
 
     def stalled():
         """The stopping rule: pop_size evaluations and STALL_WORK times the LPs of the
@@ -239,21 +236,21 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None):
         (they cannot use the improvement: the stall is counted after them)."""
         progress.tick()
         state["evals"] += 1
-        if _better(_alpha(engine), state["best"]):
-            state.update(best=_alpha(engine), since=-left, lps=engine.n_lps())
+        if _better(record.alpha(), state["best"]):
+            state.update(best=record.alpha(), since=-left, lps=engine.n_lps())
         else:
             state["since"] += 1
-        return alpha if np.isfinite(alpha) else 10.0 + (state["best"] if np.isfinite(state["best"]) else 0.0)
+        return alpha if np.isfinite(alpha) else NO_CERTIFICATE + (state["best"] if np.isfinite(state["best"]) else 0.0)
 
     def fitness(z):
         if stalled():  # the rest of this generation is skipped, then the GA stops
             return math.inf
-        return counted(engine.evaluate(z, reference_N=engine.reference_N(), chain_steps=opt.chain))
+        return counted(fitness_of.evaluate(z, opt.chain, reference_N=fitness_of.reference_N()))
 
     def take(outcome, left):
         """One pure evaluation's outcome (generations.py), taken in task order."""
         alpha, states, lps, learned = outcome
-        engine.merge(states, lps, learned)
+        fitness_of.merge(states, lps, learned)
         return counted(alpha, left)
 
     rng = np.random.default_rng(opt.seed)
@@ -267,7 +264,7 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None):
                            generations=opt.generations, seed=opt.seed, out_of_time=stalled,
                            batch_fitness=generations.evaluate if generations.parallel else None)
     finally:
-        engine._phase("ga", t)
+        record.phase("ga", t)
 
 
 def _nothing_certified(engine, alpha_assoc, stopped):
@@ -277,37 +274,34 @@ def _nothing_certified(engine, alpha_assoc, stopped):
         # Zero cohesion is the weakest fictitious system: if even it carries any multiple
         # of the live load, no mechanism of any friction can follow the load.
         try:
-            status = engine.mechanism(np.zeros(engine.nc))[0] if not stopped else "stopped"
+            status = engine.problem.mechanism(np.zeros(engine.problem.nc))[0] if not stopped else "stopped"
         except Stopped:
             status = "stopped"
         if status == "unbounded":
-            return "no_collapse", ("no collapse for this live load: no mechanism can follow it (even frictionless "
+            return NO_COLLAPSE, ("no collapse for this live load: no mechanism can follow it (even frictionless "
                                    "joints carry any multiple of it)"), alpha_assoc
-        return "not_certified", (
+        return NOT_CERTIFIED, (
             f"no collapse state certified{when}: the associative LP is unbounded (the statics carries any "
             "multiple of the live load with dilatant friction) and the search found no mechanism of the "
             "frictional assembly; rigid blocks with non-dilatant friction can also lock (e.g. a block wedged "
             "between piers)"), alpha_assoc
     bound = (f"; the associative multiplier {alpha_assoc:.6g} bounds alpha_c from above"
              if np.isfinite(alpha_assoc) else "")
-    return "not_certified", f"no collapse state certified{when}{bound}", alpha_assoc
+    return NOT_CERTIFIED, f"no collapse state certified{when}{bound}", alpha_assoc
 
 
 def _unstable_message(engine):
     """Unstable under dead load, and what alpha it would need to stand (if any)."""
-    base = "unstable under dead load: no statically admissible state at alpha = 0"
     try:
-        status, x = engine.statics()  # least alpha >= 0 with a statics
+        status, x = engine.problem.statics()  # least alpha >= 0 with a statics
     except Stopped:
-        return base
-    if status == "optimal" and x[-1] > 0:
-        return base + f" (it needs alpha >= {x[-1]:.6g} to stand)"
-    return base
+        return unstable_message()
+    return unstable_message(x[-1] if status == "optimal" else None)
 
 
-def _run_status(engine, status, deadline, stop):
-    text = "certified" if engine.best is not None else status.replace("_", " ")
-    if stop.is_set():
+def _run_status(engine, status, deadline, asked):
+    text = CERTIFIED if engine.record.best is not None else status.replace("_", " ")
+    if asked():
         text += ", interrupted"
     elif deadline.expired():
         text += ", time limit"
@@ -316,12 +310,7 @@ def _run_status(engine, status, deadline, stop):
 
 def _better(a, b):
     """a improves on b (b may be inf: nothing yet)."""
-    return a < b if not math.isfinite(b) else a < b - 1e-10 * max(1.0, abs(b))
-
-
-def _alpha(engine):
-    """Best certified alpha so far (inf if none)."""
-    return engine.best.alpha if engine.best is not None else math.inf
+    return a < b if not math.isfinite(b) else a < b - DESCENT_STEP * max(1.0, abs(b))
 
 
 # --------------------------------------------------------------------- Ipopt polish
@@ -334,7 +323,7 @@ def _polish_plan(structure, opt) -> dict:
     est = ipopt_seconds(structure.n_blocks)
     workers = max(1, min(opt.workers or _cores(), n or 1))
     plan = dict(n=n, estimate=est, explicit=explicit, reserve=est * math.ceil(n / workers), why="")
-    budget = None if opt.time_limit is None else 0.5 * opt.time_limit
+    budget = None if opt.time_limit is None else POLISH_SHARE * opt.time_limit
     if n == 0:
         plan["run"] = False
     elif budget is not None and est > budget:
@@ -369,8 +358,6 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
         rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
                                          f"{'s' if len(starts) != 1 else ''} to start from")
     progress.phase("Ipopt on eq. 5")
-    # the engine certifies Ipopt's points within the whole limit (the search had less)
-    engine.use_deadline(deadline)
     futures = {}
     for i, st in enumerate(starts, start=1):
         if deadline.left() < plan["estimate"] and deadline.at is not None:
@@ -387,7 +374,9 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
             done, pending = wait(pending, timeout=0.1, return_when=FIRST_COMPLETED)
             for fut in done:
                 i, st = futures[fut]
-                rows[i] = _certify_ipopt(engine, fut, i, st)
+                # Ipopt's points certified within the whole limit (the search had less)
+                with engine.problem.until(deadline):
+                    rows[i] = _certify_ipopt(engine, fut, i, st)
     except Stopped:
         pass
     for fut in pending:  # left to _shutdown (cancelled, or their workers killed)
@@ -411,11 +400,11 @@ def _certify_ipopt(engine, fut, i, st) -> Run:
 
 def _certify_point(engine, N, V, M, source):
     """An Ipopt point (scaled units) as a collapse state: the rows it holds within a
-    tolerance may flow (:meth:`GapSearch.certify_slack`). The least certified alpha at the
-    first tolerance that certifies, or None."""
+    tolerance may flow (:meth:`.gap.starts.Starts.certify_slack`). The least certified alpha
+    at the first tolerance that certifies, or None."""
     s = np.concatenate([N, V, M])
-    return engine.certify_slack(-(engine.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0), source,
-                                tols=ACTIVE_TOLERANCES, first=True)
+    return engine.starts.certify_slack(-(engine.problem.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0),
+                                       source, tols=ACTIVE_TOLERANCES, first=True)
 
 
 def _shutdown(pool, kill):

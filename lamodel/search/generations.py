@@ -6,11 +6,11 @@ on every one before it (the LPs' bases, the caches of certifications and descent
 best state so far that centres the cohesions). Here every evaluation of a generation is
 instead a pure function of
 
-* the **snapshot** taken at the generation's start (:meth:`GapSearch.snapshot`: the warm
+* the **snapshot** taken at the generation's start (:meth:`.gap.fitness.Fitness.snapshot`: the warm
   bases of the statics and cohesive LPs, the reference normal forces, the caches), and
 * its **genome**,
 
-run by :meth:`GapSearch.evaluate_pure` on an engine of its own. Caps on hard LPs are
+run by :meth:`.gap.fitness.Fitness.evaluate_pure` on an engine of its own. Caps on hard LPs are
 counted in simplex iterations, never seconds, so an evaluation gives the same states on
 any machine and under any load. The search then takes the outcomes in task order
 (driver: ``_genetic_search``), the stopping rule counted in that order too: the certified
@@ -26,9 +26,7 @@ import uuid
 import numpy as np
 
 from .options import Deadline, Stopped
-
-#: While waiting for an evaluation, the search checks its deadline (Ctrl-C) this often (s).
-WAIT_SLICE = 0.1
+from .tuning import EVALUATION_SLICE
 
 
 def parallel(opt) -> bool:
@@ -48,23 +46,21 @@ class Evaluators:
 
     def evaluate(self, snap: dict, genome, chain: int, deadline: Deadline):
         """(alpha, states, LP solves, learned) of one genome; raises Stopped at the deadline."""
-        from .engine import GapSearch
+        from .gap import GapSearch
         try:
             engine = self.idle.get_nowait()
-            engine.use_deadline(deadline)
         except queue.Empty:
-            engine = GapSearch(self.structure, deadline)
-        outcome = engine.evaluate_pure(snap, genome, chain_steps=chain)
+            engine = GapSearch(self.structure)
+        outcome = engine.fitness.evaluate_pure(snap, genome, chain, deadline)
         self.idle.put(engine)  # not after Stopped: an engine is unusable after it
         return outcome
 
 
-def _on_dask_worker(key, structure, snap, genome, chain, seconds_left):
+def _on_dask_worker(key, structure, snap, genome, chain, deadline):
     """A Dask task: one pure evaluation on this worker's engines of the structure.
-    Stopped (the time limit, measured here as the seconds the search had left when it
-    submitted) comes back as None, never raised: Dask would retry a task that raises."""
+    Stopped (the time limit: the deadline travels as the seconds the search had left when
+    it submitted) comes back as None, never raised: Dask would retry a task that raises."""
     from .executor import context
-    deadline = Deadline.after(seconds_left)
     try:
         return context(key, structure, Evaluators).evaluate(snap, genome, chain, deadline)
     except Stopped:
@@ -119,10 +115,8 @@ class _Dask:
         from .executor import share
         g, self.generation = self.generation, self.generation + 1
         self.snapshot = share(self.client, snap, f"{self.run}-{g}")
-        left = self.deadline.left()
-        left = None if left == math.inf else max(left, 0.0)
         return [_DaskOutcome(self.client.submit(_on_dask_worker, self.key, self.structure, self.snapshot, z,
-                                                self.chain, left, key=f"lamodel-ga-{self.run}-{g}-{i}",
+                                                self.chain, self.deadline, key=f"lamodel-ga-{self.run}-{g}-{i}",
                                                 retries=1, pure=False))
                 for i, z in enumerate(X)]
 
@@ -171,10 +165,10 @@ class Generations:
 
     def __enter__(self):
         if self.opt.scheduler is not None:
-            self.backend = _Dask(self.engine.user, self.opt.scheduler, self.client, self.engine.deadline,
+            self.backend = _Dask(self.engine.problem.user, self.opt.scheduler, self.client, self.engine.deadline,
                                  self.opt.chain)
         elif self.parallel:
-            self.backend = _Threads(self.engine.user, self.opt.ga_workers, self.engine.deadline, self.opt.chain)
+            self.backend = _Threads(self.engine.problem.user, self.opt.ga_workers, self.engine.deadline, self.opt.chain)
         return self
 
     def __exit__(self, *exc):
@@ -183,7 +177,7 @@ class Generations:
 
     def evaluate(self, X):
         """The fitness of each row of X, the outcomes taken in row order."""
-        futures = self.backend.submit(self.engine.snapshot(), np.asarray(X, float))
+        futures = self.backend.submit(self.engine.fitness.snapshot(), np.asarray(X, float))
         out = np.full(len(X), math.inf)
         try:
             for i, fut in enumerate(futures):
@@ -199,6 +193,6 @@ class Generations:
         """The outcome, the search's deadline (Ctrl-C) checked while it is computed."""
         while True:
             try:
-                return fut.result(timeout=WAIT_SLICE)
+                return fut.result(timeout=EVALUATION_SLICE)
             except TimeoutError:
                 self.engine.deadline.check()

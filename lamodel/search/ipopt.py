@@ -16,15 +16,8 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from ..structure import Structure
 from .options import Deadline
 from .state import CollapseState
+from .tuning import EPSILON_LADDER, IPOPT_OPTIONS, IPOPT_WARM_OPTIONS
 
-#: epsilon ladder for the relaxed bilinear condition, as fractions of max(1, alpha)
-EPSILON_LADDER = (1e-3, 1e-5, 0.0)
-#: Ipopt options for the warm-started ladder (start points are nearly feasible)
-IPOPT_OPTIONS = {"tol": 1e-8, "acceptable_tol": 1e-6, "constr_viol_tol": 1e-9, "mu_init": 1e-6,
-                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 150, "mumps_pivot_order": 0,
-                 # Ipopt relaxes bounds by 1e-8 by default: a tension N = +1e-8 on an open joint
-                 # times xi at its bound makes a fake, lower alpha_K (measured on wall55: 4.5e-5).
-                 "bound_relax_factor": 0.0}
 
 
 #: Ipopt's return codes in a word or two (runs.csv's status column)
@@ -43,7 +36,7 @@ def _init_worker(structure: Structure, xi_factor: float, solver: str, own_signal
     if own_signals:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     from ..formulation.model import create_model
-    from .bridge import QuadraticNLP
+    from ..solvers.bridge import QuadraticNLP
     m = create_model(structure, xi_factor=xi_factor)
     _WORKER.update(model=m, nlp=QuadraticNLP(m) if solver == "lamodel_ipopt" else None, structure=structure)
 
@@ -96,7 +89,7 @@ class _InlinePool:
 class _DaskPool:
     """The pool interface on a dask.distributed cluster: each worker builds the model once
     per structure (:func:`lamodel.search.executor.context`); a deadline travels as the
-    seconds left (clocks of other machines differ)."""
+    seconds left (its pickled form)."""
 
     def __init__(self, structure, opt):
         from .executor import Executor, fingerprint, share
@@ -107,7 +100,6 @@ class _DaskPool:
         self.pool = client.get_executor(retries=1, pure=False)
 
     def submit(self, fn, *args):
-        args = tuple(("seconds left", a.left()) if isinstance(a, Deadline) and a.at is not None else a for a in args)
         return self.pool.submit(_on_dask_worker, self.key, self.shared, fn, *args)
 
     def shutdown(self, wait=True, cancel_futures=False):
@@ -126,7 +118,6 @@ _MODEL_LOCK = threading.Lock()  # one Pyomo model per worker: its threads take t
 
 def _on_dask_worker(key, shared, fn, *args):
     from .executor import context
-    args = tuple(Deadline.after(a[1]) if isinstance(a, tuple) and a[:1] == ("seconds left",) else a for a in args)
     with _MODEL_LOCK:
         _WORKER.update(context(key, shared, _prepare_model))
         return fn(*args)
@@ -150,7 +141,7 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
         opts = dict(IPOPT_OPTIONS)
         opts.update(options or {})
         if mult is not None:
-            opts.update(warm_start_init_point="yes", warm_start_bound_push=1e-9, warm_start_mult_bound_push=1e-9)
+            opts.update(IPOPT_WARM_OPTIONS)
         if deadline.at is not None:
             left = deadline.left()
             if left <= 0.5:

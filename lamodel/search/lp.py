@@ -18,40 +18,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import highspy
 import numpy as np
 import scipy.sparse as sp
 
 from ..formulation.matrices import Formulation
 from ..structure import Structure
-from .options import Deadline
-
-INF = highspy.kHighsInf
-#: Feasibility tolerance of the LPs whose alpha is reported. HiGHS's default 1e-7 moves
-#: alpha by ~2e-6 on a 200-block wall (measured); 1e-9 agrees across simplex and IPM to 1e-10.
-#: The GA's screening LPs keep the faster default (``tolerance=None``).
-TIGHT_TOLERANCE = 1e-9
-#: LPs with more columns than this start with the interior point method
-IPM_COLUMNS = 3000
-
-
-class QuietHighs(highspy.Highs):
-    """highspy's Highs that prints nothing. highspy 1.16 logs its banner to stdout when
-    its constructor enables the Python callbacks, before an option can be set (it broke
-    ``--quiet`` and any stdout a user parses); the option goes first here."""
-
-    def enableCallbacks(self):
-        self.setOptionValue("output_flag", False)
-        super().enableCallbacks()
-
-    def __init__(self):
-        super().__init__()
-        self.setOptionValue("output_flag", False)  # highspy versions without enableCallbacks
+from .highs import INF, HighsLP
+from .options import Deadline, Stopped
 
 
 @dataclass
 class LPResult:
-    status: str                    # 'optimal', 'infeasible', 'unbounded' or HiGHS's word
+    status: str                    # 'optimal', 'infeasible', 'unbounded', 'time limit' or HiGHS's word
     alpha: float = np.nan
     x: np.ndarray | None = None    # primal columns
     row_dual: np.ndarray | None = None
@@ -62,72 +40,17 @@ class LPResult:
         return self.status == "optimal"
 
 
-class _HighsLP:
-    """min c^T x, row_lo <= A x <= row_hi, col_lo <= x <= col_hi; kept for warm starts."""
-
-    def __init__(self, cost, A, row_lo, row_hi, col_lo, col_hi, tolerance=None):
-        A = sp.csc_matrix(A)
-        self.h = QuietHighs()
-        if tolerance is not None:
-            for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
-                self.h.setOptionValue(option, float(tolerance))
-        lp = highspy.HighsLp()
-        lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
-        lp.col_cost_ = np.asarray(cost, dtype=float)
-        lp.col_lower_, lp.col_upper_ = np.asarray(col_lo, dtype=float), np.asarray(col_hi, dtype=float)
-        lp.row_lower_, lp.row_upper_ = np.asarray(row_lo, dtype=float), np.asarray(row_hi, dtype=float)
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_ = A.indptr.astype(np.int32)
-        lp.a_matrix_.index_ = A.indices.astype(np.int32)
-        lp.a_matrix_.value_ = A.data.astype(float)
-        self.h.passModel(lp)
-        self.n, self.m = A.shape[1], A.shape[0]
-        self.cold = True
-
-    def set_col_bounds(self, idx, lo, hi):
-        idx = np.asarray(idx, dtype=np.int32)
-        self.h.changeColsBounds(idx.size, idx, np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
-
-    def set_row_bounds(self, idx, lo, hi):
-        idx = np.asarray(idx, dtype=np.int32)
-        self.h.changeRowsBounds(idx.size, idx, np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
-
-    def set_cost(self, cost):
-        idx = np.arange(self.n, dtype=np.int32)
-        self.h.changeColsCost(self.n, idx, np.asarray(cost, dtype=float))
-
-    def solve(self):
-        if self.cold and self.n > IPM_COLUMNS:
-            # A cold simplex start on a large, degenerate statics LP takes minutes (820-block
-            # wall: 104 s); the interior point method with crossover takes seconds (7.5 s)
-            # and leaves a basis for the warm-started simplex re-solves that follow.
-            self.h.setOptionValue("solver", "ipm")
-            self.h.run()
-            self.h.setOptionValue("solver", "simplex")
-        else:
-            self.h.run()
-        self.cold = False
-        status = self.h.getModelStatus()
-        if status == highspy.HighsModelStatus.kOptimal:
-            sol = self.h.getSolution()
-            return "optimal", np.array(sol.col_value), np.array(sol.row_dual), np.array(sol.col_dual)
-        if status == highspy.HighsModelStatus.kInfeasible:
-            return "infeasible", None, None, None
-        if status in (highspy.HighsModelStatus.kUnbounded, highspy.HighsModelStatus.kUnboundedOrInfeasible):
-            # Tell the two apart: a basis-free re-solve settles it.
-            return "unbounded" if status == highspy.HighsModelStatus.kUnbounded else "unbounded_or_infeasible", None, None, None
-        if status == highspy.HighsModelStatus.kTimeLimit:
-            return "time limit", None, None, None
-        return self.h.modelStatusToString(status), None, None, None
+def methods_lp(cost, A, row_lo, row_hi, col_lo, col_hi) -> HighsLP:
+    """An LP of the published methods: min cost^T x, row_lo <= A x <= row_hi,
+    col_lo <= x <= col_hi, warm re-solves by HiGHS's dual simplex."""
+    return HighsLP(A, row_lo, cost, col_lo, col_hi, name="methods", b_hi=row_hi, warm="dual")
 
 
 class LimitLPs:
     """The LPs of one structure, built once and re-solved with new data."""
 
-    def __init__(self, structure: Structure, tolerance: float | None = TIGHT_TOLERANCE,
-                 formulation: Formulation | None = None):
+    def __init__(self, structure: Structure, formulation: Formulation | None = None):
         self.structure = s = structure
-        self.tolerance = tolerance
         self.deadline = Deadline()  # after it, LPs stop with status "time limit"
         self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
         self.formulation = F = formulation or Formulation.of(s)
@@ -141,20 +64,19 @@ class LimitLPs:
         cost = np.zeros(self.nvar)
         cost[-1] = -1.0  # max alpha
         # Real statics: equilibrium (= -f0) and all four yield rows (<= 0).
-        self._statics = _HighsLP(cost, sp.vstack([E, Yrows]),
-                                 np.concatenate([-self.f0, np.full(4 * nc, -INF)]),
-                                 np.concatenate([-self.f0, np.zeros(4 * nc)]), col_lo, col_hi, tolerance)
+        self._statics = methods_lp(cost, sp.vstack([E, Yrows]), np.concatenate([-self.f0, np.full(4 * nc, -INF)]),
+                                   np.concatenate([-self.f0, np.zeros(4 * nc)]), col_lo, col_hi)
         # Fictitious cohesive statics: equilibrium and the hinge rows; |V| <= c as column bounds.
-        self._cohesive = _HighsLP(cost, sp.vstack([E, Yrows[2 * nc:]]),
-                                  np.concatenate([-self.f0, np.full(2 * nc, -INF)]),
-                                  np.concatenate([-self.f0, np.zeros(2 * nc)]), col_lo, col_hi, tolerance)
+        self._cohesive = methods_lp(cost, sp.vstack([E, Yrows[2 * nc:]]),
+                                    np.concatenate([-self.f0, np.full(2 * nc, -INF)]),
+                                    np.concatenate([-self.f0, np.zeros(2 * nc)]), col_lo, col_hi)
         # Mechanisms: columns (u, xi); compatibility -A^T u - G^T xi = 0 and fbar^T u = 1.
         K = sp.vstack([sp.hstack([-self.A.T, -self.G.T]),
                        sp.hstack([sp.csr_matrix(self.fbar.reshape(1, -1)), sp.csr_matrix((1, 4 * nc))])])
-        self._mech = _HighsLP(np.zeros(3 * nb + 4 * nc), K, np.append(np.zeros(3 * nc), 1.0),
-                              np.append(np.zeros(3 * nc), 1.0),
-                              np.concatenate([np.full(3 * nb, -INF), np.zeros(4 * nc)]),
-                              np.concatenate([np.full(3 * nb, INF), np.full(4 * nc, INF)]), tolerance)
+        self._mech = methods_lp(np.zeros(3 * nb + 4 * nc), K, np.append(np.zeros(3 * nc), 1.0),
+                                np.append(np.zeros(3 * nc), 1.0),
+                                np.concatenate([np.full(3 * nb, -INF), np.zeros(4 * nc)]),
+                                np.concatenate([np.full(3 * nb, INF), np.full(4 * nc, INF)]))
         self.n_solves = 0
 
     # ------------------------------------------------------------------------ pieces
@@ -169,8 +91,8 @@ class LimitLPs:
     # -------------------------------------------------------------------------- LPs
     def associative(self) -> LPResult:
         """max alpha over S: the associative multiplier, an upper bound on alpha_c."""
-        self._statics.set_row_bounds(np.arange(3 * self.nb, 3 * self.nb + 4 * self.nc),
-                                     np.full(4 * self.nc, -INF), np.zeros(4 * self.nc))
+        self._statics.set_row_bounds(np.full(4 * self.nc, -INF), np.zeros(4 * self.nc),
+                                     np.arange(3 * self.nb, 3 * self.nb + 4 * self.nc))
         cost = np.zeros(self.nvar)
         cost[-1] = -1.0
         self._statics.set_cost(cost)
@@ -184,7 +106,7 @@ class LimitLPs:
             mask[active] = True
             active = mask
         lo = np.where(active, 0.0, -INF)
-        self._statics.set_row_bounds(np.arange(3 * self.nb, 3 * self.nb + 4 * self.nc), lo, np.zeros(4 * self.nc))
+        self._statics.set_row_bounds(lo, np.zeros(4 * self.nc), np.arange(3 * self.nb, 3 * self.nb + 4 * self.nc))
         cost = np.zeros(self.nvar)
         cost[-1] = 1.0 if minimize else -1.0
         self._statics.set_cost(cost)
@@ -199,7 +121,7 @@ class LimitLPs:
         """
         nc, nb = self.nc, self.nb
         c = np.maximum(np.asarray(c, dtype=float), 0.0)
-        self._cohesive.set_col_bounds(np.arange(nc, 2 * nc), -c, c)
+        self._cohesive.set_bounds(-c, c, np.arange(nc, 2 * nc))
         res = self._run(self._cohesive)
         if not res.ok:
             return res, None, None
@@ -219,7 +141,7 @@ class LimitLPs:
         nb, nc = self.nb, self.nc
         allowed = np.asarray(allowed, dtype=bool)
         hi = np.where(allowed, INF if xi_max is None else xi_max, 0.0)
-        self._mech.set_col_bounds(np.arange(3 * nb, 3 * nb + 4 * nc), np.zeros(4 * nc), hi)
+        self._mech.set_bounds(np.zeros(4 * nc), hi, np.arange(3 * nb, 3 * nb + 4 * nc))
         mu_n = self.structure.mu * np.asarray(N_hat, dtype=float)
         cost = np.concatenate([-self.f0, -mu_n, -mu_n, np.zeros(2 * nc)])
         self._mech.set_cost(cost)
@@ -228,16 +150,18 @@ class LimitLPs:
             return res, None, None
         return res, res.x[:3 * nb], np.maximum(res.x[3 * nb:], 0.0)
 
-    def _run(self, lp: _HighsLP) -> LPResult:
+    def _run(self, lp: HighsLP) -> LPResult:
+        """Solve ``lp`` within this object's deadline ("time limit" after it)."""
         self.n_solves += 1
-        if self.deadline.at is not None:  # one LP of a large model can take minutes
-            lp.h.setOptionValue("time_limit", max(self.deadline.left(), 1e-3))
-        status, x, yr, yc = lp.solve()
-        if status != "optimal" and status.startswith("unbounded_or"):
-            lp.h.clearSolver()  # start cold to tell infeasible from unbounded
-            status, x, yr, yc = lp.solve()
-        alpha = float(x[-1]) if (x is not None and lp is not self._mech) else (
-            float(lp.h.getInfo().objective_function_value) if x is not None else np.nan)
+        try:
+            status = lp.solve(deadline=self.deadline)
+        except Stopped:
+            return LPResult(status="time limit")
+        if status != "optimal":
+            return LPResult(status=status)
+        x = lp.x()
+        yr, yc = lp.duals()
+        alpha = float(x[-1]) if lp is not self._mech else lp.objective()
         return LPResult(status=status, alpha=alpha, x=x, row_dual=yr, col_dual=yc)
 
     # ------------------------------------------------------------------ virtual work

@@ -35,7 +35,8 @@ import numpy as np
 
 from ..structure import Structure
 from .options import Deadline, SolveOptions
-from .state import CollapseState, Run
+from .state import CERTIFIED, FAILED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run, unstable_message
+from .tuning import STABLE_ALPHA
 
 #: the methods, in the order of ``methods.csv``
 METHODS = ("associative", "successive-lp", "mpec", "seed", "lamodel")
@@ -80,7 +81,7 @@ class MethodResult:
     seconds: float = 0.0
     iterations: int = 0                   # LPs (associative, successive-lp) or Ipopt iterations
     notes: str = ""
-    status: str = "not_certified"         # certified, not_certified, unstable, no_collapse, failed
+    status: str = NOT_CERTIFIED           # one of lamodel.search.state.STATUSES (all but interrupted)
     runs: list = field(default_factory=list)
     seed: int = 0
 
@@ -104,15 +105,15 @@ class MethodResult:
 def _associative(structure, lps):
     """(status, message, LP result): the associative LP, or why no method can start."""
     at_rest = lps.statics(None, minimize=True)
-    if at_rest.status == "infeasible" or (at_rest.ok and at_rest.alpha > 1e-9):
-        return "unstable", "unstable under dead load: no statically admissible state at alpha = 0", None
+    if at_rest.status == "infeasible" or (at_rest.ok and at_rest.alpha > STABLE_ALPHA):
+        return UNSTABLE, unstable_message(at_rest.alpha if at_rest.ok else None), None
     assoc = lps.associative()
     if assoc.ok:
         return "ok", "", assoc
     if assoc.status.startswith("unbounded"):
-        return "no_collapse", ("the associative LP is unbounded: no dilatant collapse for this live load "
+        return NO_COLLAPSE, ("the associative LP is unbounded: no dilatant collapse for this live load "
                                "(use --method lamodel for a frictional one)"), None
-    return "failed", f"the associative LP failed ({assoc.status})", None
+    return FAILED, f"the associative LP failed ({assoc.status})", None
 
 
 def _associative_mechanism(lps, assoc):
@@ -142,7 +143,7 @@ def _finish(result: MethodResult, lps, raw, t0, extra="", run=0):
     result.raw_residual = r[worst]
     state = certify(lps, N, V, M, alpha, u, xi, source=result.method)
     result.state = state
-    result.status = "certified" if state is not None else "not_certified"
+    result.status = CERTIFIED if state is not None else NOT_CERTIFIED
     if state is not None and result.runs:
         result.runs[run].alpha_certified = state.alpha
     if r[worst] <= RESIDUAL_TOLERANCE:
@@ -161,7 +162,7 @@ def _finish(result: MethodResult, lps, raw, t0, extra="", run=0):
 def _ipopt_model(structure, options: SolveOptions):
     """The Pyomo model of eq. (5) compiled once for Ipopt (None: Pyomo's ipopt executable)."""
     from ..formulation.model import create_model
-    from .bridge import QuadraticNLP
+    from ..solvers.bridge import QuadraticNLP
     m = create_model(structure, xi_factor=options.xi_factor)
     return m, (QuadraticNLP(m) if options.solver == "lamodel_ipopt" else None)
 
@@ -181,7 +182,7 @@ def _gilbert_lp(lps, a):
     is compression), i.e. ``|V| <= cap - a mu |N|``: a fictitious friction coefficient
     ``-a mu`` (negative) and a fictitious cohesion ``cap``, set per iteration (row bounds)."""
     import scipy.sparse as sp
-    from .lp import INF, TIGHT_TOLERANCE, _HighsLP
+    from .lp import INF, methods_lp
     nc = lps.nc
     E = sp.hstack([lps.A, sp.csr_matrix(lps.fbar.reshape(-1, 1))])
     I, Z, z = sp.identity(nc, format="csr"), sp.csr_matrix((nc, nc)), sp.csr_matrix((nc, 1))
@@ -190,9 +191,9 @@ def _gilbert_lp(lps, a):
     hinge = sp.hstack([lps.Y[2 * nc:], sp.csr_matrix((2 * nc, 1))])
     cost = np.zeros(lps.nvar)
     cost[-1] = -1.0
-    return _HighsLP(cost, sp.vstack([E, slide, hinge]),
-                    np.concatenate([-lps.f0, np.full(4 * nc, -INF)]), np.concatenate([-lps.f0, np.zeros(4 * nc)]),
-                    np.append(np.full(3 * nc, -INF), 0.0), np.full(3 * nc + 1, INF), TIGHT_TOLERANCE)
+    return methods_lp(cost, sp.vstack([E, slide, hinge]),
+                      np.concatenate([-lps.f0, np.full(4 * nc, -INF)]), np.concatenate([-lps.f0, np.zeros(4 * nc)]),
+                      np.append(np.full(3 * nc, -INF), 0.0), np.full(3 * nc + 1, INF))
 
 
 def successive_lp(structure, options, lps, assoc, t0):
@@ -247,7 +248,7 @@ def successive_lp(structure, options, lps, assoc, t0):
         if lp is None or lp_a != a:
             lp, lp_a = _gilbert_lp(lps, a), a
         cap = c0 - (1.0 + a) * mu * np.minimum(N_hat, 0.0)
-        lp.set_row_bounds(rows, np.full(2 * nc, -INF), np.concatenate([cap, cap]))
+        lp.set_row_bounds(np.full(2 * nc, -INF), np.concatenate([cap, cap]), rows)
         res = lps._run(lp)
         if not res.ok:
             if res.status == "infeasible" and a > 0:
@@ -268,7 +269,7 @@ def successive_lp(structure, options, lps, assoc, t0):
         a = max(a * SLP_ALPHA_FACTOR, SLP_ALPHA_MIN) if a > 0 else 0.0
     result.iterations = 1 + k
     if raw is None:
-        result.notes, result.status = f"LP 1 failed ({res.status})", "failed"
+        result.notes, result.status = f"LP 1 failed ({res.status})", FAILED
         result.seconds = time.perf_counter() - t0
         return result
     status = (f"converged after {k} LPs" if converged
@@ -342,7 +343,7 @@ def seed_ga(structure, options, lps, assoc, t0, deadline=Deadline(), pop_size=SE
                    generations=generations, seed=options.seed, out_of_time=deadline.expired)
     n = len(result.runs)
     if best["raw"] is None:
-        result.notes, result.status = f"none of {n} Ipopt solves ran", "failed"
+        result.notes, result.status = f"none of {n} Ipopt solves ran", FAILED
         result.seconds = time.perf_counter() - t0
         return result
     feasible = best["fitness"] < penalty

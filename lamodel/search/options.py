@@ -108,8 +108,15 @@ class Deadline:
         d.flag = self.flag
         return d
 
-    def __getstate__(self):  # for worker processes: the time alone (a predicate may not pickle)
-        return {"at": self.at if not self.expired() else time.monotonic(), "stop": None, "flag": False}
+    def __getstate__(self):
+        """What travels to a worker (a local process or a Dask worker on another machine):
+        the seconds left, the one wire format of a deadline (clocks of other machines
+        differ; a stop predicate may not pickle). An expired deadline arrives expired."""
+        return {"left": None if self.at is None and not self.expired() else max(self.left(), 0.0)}
+
+    def __setstate__(self, state):
+        self.at = None if state["left"] is None else time.monotonic() + state["left"]
+        self.stop, self.flag = None, False
 
 
 def catch_sigint(on_sigint):

@@ -1,6 +1,6 @@
 """The certified search in space: the seed's method on the Coulomb cone (eq. 5 in 3D).
 
-The steps have the shape of the planar engine's (:mod:`lamodel.search.engine`), with conic
+The steps have the shape of the planar engine's (:mod:`lamodel.search.gap`), with conic
 programs (Clarabel, :mod:`.cone`) where the planar one has LPs:
 
 * **statics**: max alpha over S (the associative bound), or min ``alpha + rho w^T s_f`` over

@@ -1,4 +1,5 @@
-"""A collapse state of the frictional assembly: what the search finds and reports."""
+"""What the search finds and reports: a collapse state, a row of runs.csv, and the one
+vocabulary of statuses and messages that a solve and every method end with."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -36,3 +37,22 @@ class Run:
     alpha_certified: float = np.nan
     iterations: int = 0
     seconds: float = 0.0
+
+
+#: How a solve (:class:`lamodel.search.driver.Outcome`) or a method
+#: (:class:`lamodel.search.methods.MethodResult`) ends: a certified collapse state; none
+#: certified (the associative bound, if any, still holds); unstable under the dead load
+#: alone; no collapse for this live load; stopped by Ctrl-C or a stop predicate (the best
+#: certified state so far is reported); a method that could not run.
+CERTIFIED, NOT_CERTIFIED, UNSTABLE, NO_COLLAPSE, INTERRUPTED, FAILED = (
+    "certified", "not_certified", "unstable", "no_collapse", "interrupted", "failed")
+STATUSES = (CERTIFIED, NOT_CERTIFIED, UNSTABLE, NO_COLLAPSE, INTERRUPTED, FAILED)
+
+
+def unstable_message(alpha_needed: float | None = None) -> str:
+    """The message of an UNSTABLE status: no statically admissible state carries the dead
+    load alone; ``alpha_needed``: the least alpha at which one exists (if any)."""
+    base = "unstable under dead load: no statically admissible state at alpha = 0"
+    if alpha_needed is not None and alpha_needed > 0:
+        return base + f" (it needs alpha >= {alpha_needed:.6g} to stand)"
+    return base

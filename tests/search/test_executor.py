@@ -48,6 +48,7 @@ def _fail_on_one(ctx, item, seed):
 
 
 # ---------------------------------------------------------------- local
+@pytest.mark.slow
 def test_seeds_come_from_one_seed_sequence_whatever_the_workers():
     items = list(range(6))
     here = run_tasks(_draw, items, seed=7, workers=1)
@@ -61,6 +62,7 @@ def test_seeds_come_from_one_seed_sequence_whatever_the_workers():
     assert run_tasks(_draw, items, seed=8, workers=1)[0].value != here[0].value
 
 
+@pytest.mark.slow
 def test_context_is_built_once_per_worker_process():
     results = run_tasks(_report_context, range(8), shared="a structure", prepare=_built_here, workers=2)
     tokens = {}
@@ -72,6 +74,7 @@ def test_context_is_built_once_per_worker_process():
     assert os.getpid() not in tokens  # the work ran in the worker processes
 
 
+@pytest.mark.slow
 def test_a_local_worker_that_dies_is_recorded_and_its_task_retried(tmp_path):
     results = run_tasks(_die_once, range(5), shared=str(tmp_path), workers=2)
     assert [r.value for r in results] == [0, 10, 20, 30, 40]
@@ -96,6 +99,7 @@ def test_workers_or_scheduler_not_both():
 
 
 # ---------------------------------------------------------------- Dask
+@pytest.mark.slow
 def test_dask_gives_the_serial_alpha_on_wall33(dask_cluster):
     """wall33 (starts=0) solved as a task on the cluster: the alpha of the serial solve
     with the task's GA seed, to the last bit."""
@@ -113,6 +117,7 @@ def test_dask_gives_the_serial_alpha_on_wall33(dask_cluster):
     assert res.value["alpha"] == pytest.approx(0.638982, abs=1e-6)  # Table 1
 
 
+@pytest.mark.slow
 def test_dask_map_equals_local_map(dask_cluster):
     items = list(range(5))
     local = run_tasks(_draw, items, seed=11, workers=2)
@@ -136,6 +141,7 @@ def _kill_a_busy_worker(client, seen, killed):
         time.sleep(0.02)
 
 
+@pytest.mark.slow
 def test_a_worker_killed_mid_study_the_study_completes_with_the_retry_recorded(dask_cluster):
     from lamodel.io import read
     from lamodel.parametric import run_study, study_from_dict

@@ -40,6 +40,7 @@ CASES = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", list(CASES))
 def test_every_method_agrees_with_the_closed_form(case, tmp_path):
     make, expected = CASES[case]
@@ -88,6 +89,7 @@ def test_basic_successive_lp_converges_to_a_collapse_state(wall33, monkeypatch):
     assert r.alpha_raw >= r.alpha_certified - 1e-9
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name, published", [("wall33", 0.63982), ("wall55", 0.56262)])
 def test_successive_lp_near_gilbert_et_al_published_values(name, published):
     # Gilbert, Casapulla & Ahmed (2006) on Ferris & Tin-Loi's walls: 0.63982 and 0.56262;
@@ -99,6 +101,7 @@ def test_successive_lp_near_gilbert_et_al_published_values(name, published):
     assert r.certified and r.alpha_certified <= r.alpha_raw + 1e-9
 
 
+@pytest.mark.slow
 def test_an_answer_that_certifies_nothing_stays_uncertified(tmp_path):
     # wall55: the associative LP's active rows hold no collapse state (measured)
     s = read_dat(INSTANCES / "wall55.dat")
@@ -117,6 +120,7 @@ def lamodel_cli(*args, timeout=600):
                           cwd=ROOT, timeout=timeout, env=dict(os.environ, PYTHONPATH=str(ROOT)))
 
 
+@pytest.mark.slow
 def test_method_all_on_wall33_writes_methods_csv(tmp_path):
     out = tmp_path / "w33"
     res = lamodel_cli("solve", INSTANCES / "wall33.dat", "--method", "all", "--out", out, "--starts", 1,
@@ -135,6 +139,7 @@ def test_method_all_on_wall33_writes_methods_csv(tmp_path):
     assert pd.read_csv(out / "summary.csv")["method"][0] in METHODS
 
 
+@pytest.mark.slow
 def test_single_method_from_the_command_line(tmp_path):
     spec = tmp_path / "stack.json"
     import json
@@ -147,6 +152,7 @@ def test_single_method_from_the_command_line(tmp_path):
     assert not (tmp_path / "r" / "methods.csv").exists()
 
 
+@pytest.mark.slow
 def test_unknown_method_is_one_line_exit_2():
     res = lamodel_cli("solve", INSTANCES / "wall33.dat", "--method", "simplex")
     assert res.returncode == 2

@@ -24,3 +24,15 @@ def test_deadline():
     assert d.expired() and d.left() < 0
     assert not d.extended(10).expired()
     assert Deadline.after(None).extended(5).at is None
+
+
+def test_a_deadline_travels_as_the_seconds_left():
+    """Pickled (to a worker process or a Dask worker on another machine) a deadline is its
+    seconds left: the same end on the receiver's clock; a stop asked for arrives expired;
+    none stays none."""
+    import pickle
+    d = pickle.loads(pickle.dumps(Deadline.after(30.0, stop=lambda: False)))
+    assert d.stop is None and 29.0 < d.left() <= 30.0
+    stopped = Deadline.after(None, stop=lambda: True)
+    assert pickle.loads(pickle.dumps(stopped)).expired()
+    assert pickle.loads(pickle.dumps(Deadline.after(None))).at is None

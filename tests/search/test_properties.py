@@ -141,24 +141,28 @@ def check_outcome(spec, stable):
 # --------------------------------------------------------------------------- the tests
 @SETTINGS
 @given(with_friction_and_load(stacks()))
+@pytest.mark.slow
 def test_random_stacks(case):
     check_outcome(*case)
 
 
 @SETTINGS
 @given(with_friction_and_load(piers()))
+@pytest.mark.slow
 def test_random_piers(case):
     check_outcome(*case)
 
 
 @SETTINGS
 @given(with_friction_and_load(trilithons()))
+@pytest.mark.slow
 def test_random_trilithons(case):
     check_outcome(*case)
 
 
 @SETTINGS
 @given(with_friction_and_load(walls()))
+@pytest.mark.slow
 def test_random_running_bond_walls(case):
     check_outcome(*case)
 

@@ -8,7 +8,7 @@ from builders import box_on_ground, transformed
 from lamodel.formulation.extrude import extrude
 from lamodel.io import read
 from lamodel.search.certify3d import RESIDUAL_TOLERANCE
-from lamodel.search.engine import GapSearch
+from lamodel.search.gap import GapSearch
 from lamodel.search.search3d import solve3d
 from conftest_paths import INSTANCES
 
@@ -17,8 +17,9 @@ SEED = ["wall33.dat", "wall55.dat", "arch.json", "portal.json", "portal_columns.
 
 def planar_first_certificate(s2):
     eng = GapSearch(s2)
-    eng.run(explore=False)
-    return eng.first[0]
+    _, _, x0 = eng.starts.associative()
+    eng.starts.first_certificate(x0)
+    return eng.record.best.alpha
 
 
 @pytest.mark.parametrize("name", SEED)

@@ -6,7 +6,7 @@ from pyomo.environ import ConcreteModel, Objective, SolverFactory, value
 from builders import box_on_ground
 from lamodel.formulation.model3d import LimitAnalysisBlock3D, create_model3d, get_state3d, set_state3d
 from lamodel.formulation.space import Formulation3D
-from lamodel.search.bridge import ipopt_available
+from lamodel.solvers.bridge import ipopt_available
 from lamodel.search.search3d import solve3d
 
 pytestmark = pytest.mark.skipif(not ipopt_available(), reason="cyipopt not installed")

@@ -16,10 +16,12 @@ import pytest
 from lamodel.geometry import running_bond_wall
 from lamodel.io import read
 from lamodel.io.jsonspec import structure_from_json
-from lamodel.search import engine as engine_module
+from lamodel.search import highs
 from lamodel.search.driver import solve
-from lamodel.search.engine import GapSearch
+from lamodel.search.gap import certify as gap_certify
 from lamodel.search.options import SolveOptions
+
+pytestmark = pytest.mark.slow  # they start processes or clusters, or take seconds
 
 ROOT = Path(__file__).resolve().parents[2]
 INSTANCES = ROOT / "instances"
@@ -45,55 +47,6 @@ def _same_outcome(o, ref):
     assert o.runs[0].iterations == ref.runs[0].iterations  # the same LPs, counted
     for field in ("N", "V", "M", "u", "xi"):
         assert np.array_equal(getattr(o.best, field), getattr(ref.best, field)), field
-
-
-def _after_first_certificate(name):
-    e = GapSearch(read(INSTANCES / name), seed=0)
-    _, _, x0 = e.start()
-    e.N_assoc = e.N_of(x0)
-    e.alternate(x0)
-    assert e.best is not None
-    return e
-
-
-def test_an_evaluation_does_not_depend_on_what_its_engine_did_before():
-    e = _after_first_certificate("wall55.dat")
-    snap = e.snapshot()
-    rng = np.random.default_rng(3)
-    genomes = [s * rng.standard_normal(e.nc) for s in (0.1, 0.3, 1.0, 0.3, 1.0)]
-    forward, backward = e.evaluator(), e.evaluator()
-    a = [forward.evaluate_pure(snap, g) for g in genomes]
-    b = [backward.evaluate_pure(snap, g) for g in genomes[::-1]][::-1]
-    for (alpha_a, states_a, lps_a, _), (alpha_b, states_b, lps_b, _) in zip(a, b):
-        assert alpha_a == alpha_b and lps_a == lps_b
-        assert [s.alpha for s in states_a] == [s.alpha for s in states_b]
-        for sa, sb in zip(states_a, states_b):
-            assert np.array_equal(sa.N, sb.N) and np.array_equal(sa.u, sb.u)
-    # and the snapshot belongs to the search: evaluating leaves it untouched
-    assert e.snapshot()["reference_N"].tobytes() == snap["reference_N"].tobytes()
-
-
-def test_merged_states_are_recorded_as_if_found_here():
-    e = _after_first_certificate("wall55.dat")
-    before, lps = e.best.alpha, e.n_lps()
-    seen = []
-    e.on_state = seen.append
-    alpha, states, n, learned = e.evaluator().evaluate_pure(e.snapshot(), np.zeros(e.nc))
-    e.merge(states, n, learned)
-    assert e.n_lps() == lps + n and len(seen) == len(states)
-    assert e.best.alpha <= min([before] + [s.alpha for s in states]) + 1e-15
-    assert e.best_user is not None and max(e.best_user.residual.values()) <= 1e-7
-
-
-def test_a_snapshot_pickles_and_an_evaluation_from_its_copy_is_the_same():
-    """What a Dask task receives: the snapshot through pickle, bases as plain arrays."""
-    import pickle
-    e = _after_first_certificate("wall33.dat")
-    snap = e.snapshot()
-    copy = pickle.loads(pickle.dumps(snap))
-    genome = 0.3 * np.random.default_rng(0).standard_normal(e.nc)
-    a, b = e.evaluator().evaluate_pure(snap, genome), e.evaluator().evaluate_pure(copy, genome)
-    assert a[0] == b[0] and a[2] == b[2] and [s.alpha for s in a[1]] == [s.alpha for s in b[1]]
 
 
 @pytest.mark.parametrize("name", ["wall33.dat", "wall55.dat", "bond5x5"])
@@ -146,31 +99,20 @@ def test_iteration_caps_leave_the_answer_to_the_seed(monkeypatch):
     (each back at its starting basis), and the answer is still the same for 1 and 2
     workers. (Time caps made it depend on the machine and its load.)"""
     cut = []
-    lp_solve = engine_module._LP.solve
+    lp_solve = highs.HighsLP.solve
 
-    def counting(self, cap=None):
-        status = lp_solve(self, cap)
+    def counting(self, cap=None, deadline=None):
+        status = lp_solve(self, cap, deadline)
         if status == "iteration limit":
             cut.append(self.name)
         return status
-    monkeypatch.setattr(engine_module._LP, "solve", counting)
-    monkeypatch.setattr(engine_module, "CERTIFY_CAP_ROWS", 0.5)  # a quarter of the default
+    monkeypatch.setattr(highs.HighsLP, "solve", counting)
+    monkeypatch.setattr(gap_certify, "CERTIFY_CAP_ROWS", 0.5)  # a quarter of the default
     structure = structure_from_json(bond5x5_spec())
     outs = [solve(structure, SolveOptions(seed=0, starts=0, ga_workers=w, pop_size=6, generations=3))
             for w in (1, 2)]
     assert cut
     _same_outcome(outs[1], outs[0])
-
-
-def test_a_capped_solve_returns_to_its_starting_basis():
-    e = GapSearch(read(INSTANCES / "wall55.dat"), seed=0)
-    e.start()  # max alpha: a basis far from min alpha's
-    before = e.stat.portable_basis()
-    status, x = e.statics(cap=1)  # min alpha needs many more iterations than 1
-    assert status == "iteration limit" and x is None
-    after = e.stat.portable_basis()
-    assert all(np.array_equal(a, b) for a, b in zip(before, after))
-    assert e.statics()[0] == "optimal"  # uncapped, the same LP solves
 
 
 def _tables(folder):

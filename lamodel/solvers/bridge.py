@@ -9,7 +9,7 @@ solution and the multipliers back into the model.
 It is registered as the Pyomo solver ``'lamodel_ipopt'``::
 
     from pyomo.environ import SolverFactory
-    import lamodel.search.bridge  # registers the plugin
+    import lamodel.solvers.bridge  # registers the plugin
     opt = SolverFactory('lamodel_ipopt')
     opt.options['tol'] = 1e-8           # any Ipopt option passes through
     results = opt.solve(model)

@@ -5,7 +5,7 @@ import pyomo.environ as pe
 import pytest
 from pyomo.opt import TerminationCondition
 
-import lamodel.search.bridge  # noqa: F401  registers the plugin
+import lamodel.solvers.bridge  # noqa: F401  registers the plugin
 from lamodel.errors import SolverError
 
 

@@ -1,0 +1,57 @@
+"""The certified search on the complementarity gap of eq. (5): LPs only, warm-started.
+
+Its pieces, in the order the algorithm runs them (each an object handed the ones before):
+
+1. :mod:`.problem` — the scaled LPs: statics in friction-cone generator form, the
+   fictitious cohesive LP whose duals are a mechanism, the way back to the user's units;
+2. :mod:`.record` — the best certified state so far, its history, the phase times;
+3. :mod:`.certify` — the two-LP certificate of a mechanism, and its cache;
+4. :mod:`.descent` — from a certified state to lower ones;
+5. :mod:`.alternation` — the gap alternation (gap, hold and near-flow steps);
+6. :mod:`.starts` — where alternations start: the associative statics, the rescue, the
+   continuations, near-active rows, perturbed cohesions and the seed's chain;
+7. :mod:`.fitness` — the GA's evaluation of a genome, and its snapshots.
+
+:class:`GapSearch` builds them for one structure; :func:`lamodel.search.driver.solve` runs
+them. Every constant they use is in :mod:`lamodel.search.tuning`.
+"""
+from __future__ import annotations
+
+from ...structure import Structure
+from ..options import Deadline
+from .alternation import Alternation
+from .certify import Certifier
+from .descent import Descent
+from .fitness import Fitness
+from .problem import ScaledProblem
+from .record import Record
+from .starts import Starts
+
+__all__ = ["GapSearch"]
+
+
+class GapSearch:
+    """The pieces of the search on one structure, built in the order the algorithm runs them.
+
+    ``deadline``: a :class:`Deadline` (time limit, stop); ``on_certified(state)`` is called
+    with every new best certified state (user units). Every method raises
+    :class:`~lamodel.search.options.Stopped` when the deadline fires; after that the
+    search is unusable (its LPs are abandoned).
+    """
+
+    def __init__(self, structure: Structure, deadline: Deadline | None = None, on_certified=None,
+                 verbose: int = 0):
+        self.problem = ScaledProblem(structure, deadline, verbose)
+        self.record = Record(self.problem, on_certified)
+        self.certifier = Certifier(self.problem, self.record)
+        self.descent = Descent(self.problem, self.certifier, self.record)
+        self.alternation = Alternation(self.problem, self.certifier, self.descent, self.record)
+        self.starts = Starts(self.problem, self.certifier, self.descent, self.alternation, self.record)
+        self.fitness = Fitness(self.problem, self.certifier, self.descent, self.starts, self.record)
+
+    @property
+    def deadline(self) -> Deadline:
+        return self.problem.deadline
+
+    def n_lps(self) -> int:
+        return self.problem.n_lps()

@@ -1,0 +1,129 @@
+"""The gap alternation: from a statics, mechanism step and statics step in turn.
+
+* **Mechanism step**: the least-alpha_K mechanism (u, xi) for cohesions ``-mu N`` of the
+  current statics (:meth:`ScaledProblem.mechanism`).
+* **Gap step**: ``alpha_K(N) - alpha = w^T lambda >= 0`` with ``w = -(Y T)^T xi``; min
+  ``alpha + rho w^T lambda`` over S pulls the statics towards a collapse state; rho climbs a
+  ladder (:mod:`..tuning`) each time ``alpha + rho gap`` stops falling.
+* **Hold step** (the gap stalled near 1e-8 with a few rows flowing while slack): min alpha
+  with the rows the mechanism flows on that the statics already holds kept at equality;
+  the next mechanism often flows on tight rows only.
+* **Near-flow step**: a mechanism whose flows on slack rows are all tiny is certified
+  without them.
+
+Whenever the gap is small the mechanism is certified and the certified state descended.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..highs import INF
+from ..tuning import (ACTIVE_TOLERANCES, ALTERNATION_MAX_STEPS, FORBID_ACTIVE, GAP_CERTIFY, GAP_FORBID, GAP_HOLD,
+                      IMPROVEMENT, NEAR_FLOW, RHO_MAIN, STALL)
+from .certify import Certifier
+from .descent import Descent
+from .problem import ScaledProblem
+from .record import Record
+
+
+class Alternation:
+    """Runs the gap alternation on a problem; states certified and descended."""
+
+    def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, record: Record):
+        self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
+
+    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=ALTERNATION_MAX_STEPS, forbid_slack=False):
+        """Mechanism step / gap step from the statics x until alpha + rho gap stops falling.
+
+        Certifies whenever the gap is small; returns the best certified state of the run
+        (or None) and the last statics.
+        """
+        p = self.problem
+        t = time.perf_counter()
+        best = None
+        found = []  # certified states of the near-flow steps (see _near)
+        last_cert_key = None
+        try:
+            for rho in rhos:
+                obj_prev = INF
+                for _ in range(max_steps):
+                    alpha = float(x[-1])
+                    N = p.N_of(x)
+                    allowed = None
+                    if forbid_slack:
+                        allowed = p.active_rows(x, FORBID_ACTIVE)
+                    status, a_as, _, u, xi = p.mechanism(-p.mu * N, allowed)
+                    if status != "optimal":
+                        break
+                    gap = float(p.gap_weights(xi) @ x[:p.nl])
+                    tight = p.active_rows(x, ACTIVE_TOLERANCES[0])
+                    slack_flow = (xi > 0) & ~tight
+                    self._near(u, xi, tight, slack_flow, source, found)
+                    if slack_flow.any() and gap <= GAP_HOLD * max(1.0, alpha) and not forbid_slack:
+                        # Hold step. Near convergence the least-alpha_K mechanism flows, a
+                        # little (1e-8..3e-7 of its largest flow at 1020 blocks), on a few rows
+                        # this statics keeps slack, and no statics holds them all: the gap step
+                        # stalls at a gap ~1e-8 (the rho-weights of those rows are negligible).
+                        # Hold at equality the rows it flows on that are already tight and
+                        # minimise alpha: x stays feasible (warm), alpha falls, and the next
+                        # mechanism often flows only on tight rows (gap exactly 0: certified).
+                        st_h, xh = p.statics(held=(xi > 0) & tight, cap=self.certifier.cap())
+                        if p.verbose > 1:
+                            print(f"{p.elapsed():8.2f}   hold: alpha {alpha:.7f} gap {gap:.2e} slack flows "
+                                  f"{int(slack_flow.sum())} -> {st_h} {xh[-1] if xh is not None else ''}", flush=True)
+                        if st_h == "optimal" and xh[-1] < alpha - IMPROVEMENT * max(1.0, alpha):
+                            x = xh  # (obj_prev kept: the rho ladder still ends on a stall)
+                            continue
+                    if slack_flow.any() and gap <= GAP_FORBID * max(1.0, alpha):
+                        # Near convergence the least-alpha_K mechanism still flows, slightly,
+                        # on rows this statics keeps slack (2040 blocks: flows ~3e-7 of the
+                        # largest on heavily compressed rows hold the gap near 4e-8, and no
+                        # statics can hold those rows). Forbid them for this step.
+                        st2, _, _, u2, xi2 = p.mechanism(-p.mu * N, ~slack_flow)
+                        if st2 == "optimal":
+                            u, xi = u2, xi2
+                            slack_flow = (xi > 0) & ~tight
+                            self._near(u, xi, tight, slack_flow, source, found)
+                    step_gap = float(p.gap_weights(xi) @ x[:p.nl])
+                    if p.verbose > 1:
+                        rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
+                        print(f"{p.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
+                              f"{step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})", flush=True)
+                    # With flows left on slack rows the certification's first LP (min gap of
+                    # this mechanism, capped) decides whether a statics can hold them all.
+                    if step_gap <= GAP_CERTIFY * max(1.0, alpha):
+                        key = (xi > 0).tobytes()
+                        if key != last_cert_key:
+                            last_cert_key = key
+                            st = self.certifier.certify(u, xi, source)
+                            if st is not None:
+                                st = self.descent.descend(st)
+                                if best is None or st.alpha < best.alpha:
+                                    best = st
+                    obj = alpha + rho * gap
+                    if obj >= obj_prev - STALL * max(1.0, abs(obj_prev)):
+                        break
+                    obj_prev = obj
+                    status, xn = p.statics(cost_lam=rho * p.gap_weights(xi))
+                    if status != "optimal":
+                        break
+                    x = xn
+        finally:
+            self.record.phase("alternate", t)
+        for st in found:
+            if best is None or st.alpha < best.alpha:
+                best = st
+        return best, x
+
+    def _near(self, u, xi, tight, slack_flow, source, found):
+        """Near-flow step: a stall whose flows on slack rows are all below NEAR_FLOW of the
+        largest (1020 blocks: 4e-8..6e-8, gap 4e-9, and no statics holds them): the
+        mechanism without them, certified as any other (held rows, min alpha, every residual
+        within RESIDUAL_TOLERANCE) and descended; appended to ``found``."""
+        if not slack_flow.any() or xi[slack_flow].max() > NEAR_FLOW * xi.max():
+            return
+        st = self.certifier.certify(u, np.where(tight, xi, 0.0), source + "-near")
+        if st is not None:
+            found.append(self.descent.descend(st))

@@ -1,0 +1,111 @@
+"""The GA's evaluation of a genome, and the snapshots that make it a pure function.
+
+A genome is the vector z of per-contact log-perturbations of the cohesions around the
+best certified state: ``c = -mu N_ref exp(z)``. Its evaluation is the local search of
+:mod:`.starts` from c (the perturbed start and the seed's fixed-point chain, every
+certified state descended); its fitness the least certified alpha reached.
+
+For the GA's generations in parallel (:mod:`lamodel.search.generations`) an evaluation is
+made a pure function of a **snapshot** (the warm bases, the reference normal forces, the
+caches of certifications and descents) and the genome: :meth:`Fitness.evaluate_pure` on
+an engine of its own, whose findings the search then :meth:`Fitness.merge`\\ s in task order.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..highs import INF
+from .certify import Certifier
+from .descent import Descent
+from .problem import ScaledProblem
+from .record import Record
+from .starts import Starts, _least
+
+
+class Fitness:
+    """Evaluates genomes on a problem (warm, or pure from a snapshot)."""
+
+    def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, starts: Starts,
+                 record: Record):
+        self.problem, self.certifier, self.descent, self.starts, self.record = (problem, certifier, descent, starts,
+                                                                               record)
+        self.N_assoc = None         # normal forces of the associative statics (set by the driver)
+        self._ref_N = None
+        self._carried_bases = None  # the last merged evaluation's final bases (see snapshot)
+
+    def reference_N(self):
+        """Normal forces of the best certified state (else the associative ones)."""
+        if self.record.best is not None:
+            return self.record.best.N.copy()
+        return None if self.N_assoc is None else self.N_assoc.copy()
+
+    def evaluate(self, genome, chain_steps, reference_N=None):
+        """Fitness and local search of a genome: c = -mu N_ref exp(z).
+
+        ``reference_N`` (scaled units, see :meth:`reference_N`) defaults to the one frozen at
+        the first call, so that a genome keeps its meaning during a GA run. From c: the
+        mechanism, the gap alternation and the seed's fixed-point chain of ``chain_steps``
+        steps, each certified state descended. Returns the least certified alpha reached
+        (inf if none); the record follows. Raises Stopped at the deadline.
+        """
+        if reference_N is None:
+            if self._ref_N is None:
+                self._ref_N = self.reference_N()
+            reference_N = self._ref_N
+        if reference_N is None:
+            return INF
+        c = -self.problem.mu * reference_N * np.exp(np.asarray(genome, float))
+        best = self.starts.perturbed(c, source="genome")
+        best = _least(best, self.starts.chain(c, steps=chain_steps, source="genome-chain"))
+        return INF if best is None else best.alpha
+
+    # ------------------------------------------------- evaluations in parallel
+    def snapshot(self) -> dict:
+        """What a pure evaluation starts from (:meth:`evaluate_pure`): the warm bases of
+        the three LPs (those the last evaluation taken ended with, as a serial search
+        goes on from the previous evaluation's; this engine's own before any), the
+        reference normal forces and the caches (certifications and descents by flow
+        pattern), frozen. Plain arrays and states: it pickles (Dask)."""
+        return dict(bases=self._carried_bases or self.problem.bases(),
+                    reference_N=self.reference_N(),
+                    certified=dict(self.certifier.cache), descended=dict(self.descent.cache))
+
+    def evaluate_pure(self, snap: dict, genome, chain_steps, deadline):
+        """:meth:`evaluate` as a pure function of (snapshot, genome): the LPs restart from
+        the snapshot's bases on new HiGHS objects, the caches are the snapshot's and the
+        record emptied, so the outcome does not depend on what this engine evaluated
+        before (nor on which thread, process or machine, or how many run: every cap is
+        counted in iterations); its LPs stop at ``deadline``. Returns (alpha, certified states in the order found
+        (scaled units), LP solves, what it learned: its additions to the caches and the
+        bases it ended with)."""
+        p = self.problem
+        for name, lp in p.lps.items():
+            lp.restart(snap["bases"][name])
+        self.certifier.cache, self.descent.cache = dict(snap["certified"]), dict(snap["descended"])
+        self.record.forget()
+        found = []
+        self.record.on_state = found.append
+        lps = p.n_lps()
+        with p.until(deadline):
+            alpha = self.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
+        learned = dict(certified={k: v for k, v in self.certifier.cache.items() if k not in snap["certified"]},
+                       descended={k: v for k, v in self.descent.cache.items() if k not in snap["descended"]},
+                       bases=p.bases())
+        return alpha, found, p.n_lps() - lps, learned
+
+    def merge(self, states, lps, learned=None):
+        """What an evaluator found, taken here as if found here (in the order given:
+        callers merge evaluations in task order): its certified states, its LP count and
+        what it learned (certifications and descents by flow pattern, and its final bases,
+        for later snapshots)."""
+        for st in states:
+            if self.record.on_state is not None:
+                self.record.on_state(st)
+            self.record.take(st)
+        self.problem.lps_elsewhere += lps
+        if learned is not None:
+            for mine, theirs in ((self.certifier.cache, learned["certified"]),
+                                 (self.descent.cache, learned["descended"])):
+                for key, value in theirs.items():
+                    mine.setdefault(key, value)
+            self._carried_bases = learned["bases"]

@@ -1,0 +1,237 @@
+"""The scaled LPs of the search: statics in friction-cone generator form, the fictitious
+cohesive LP and its mechanism, and the way back to the user's units.
+
+* **Statics**: per contact four unknowns lambda >= 0, the forces ``-n +/- mu t`` at its two
+  end points (:func:`~lamodel.formulation.matrices.generator_matrix`), so that the admissible
+  set S of eq. (1)-(4) is ``A T lambda + alpha fbar = -f0``, ``lambda >= 0``, ``alpha >= 0``:
+  only 3 nb rows. A yield row of eq. (4) is held at equality exactly when the two lambdas of
+  its slack are zero.
+* **Mechanism**: the fictitious cohesive LP of the seed (``|V| <= c`` with ``c = -mu N``,
+  normal force >= 0 at both ends of a contact, max alpha). Its duals are the mechanism of
+  least alpha_K for that N, recomputed exactly from HiGHS's final basis.
+
+Numbers are non-dimensional (:mod:`lamodel.formulation.scaling`); :meth:`ScaledProblem.to_user`
+takes a state back to the user's units, re-checked there.
+"""
+from __future__ import annotations
+
+import time
+from contextlib import contextmanager
+
+import numpy as np
+import scipy.sparse as sp
+
+from ...formulation.matrices import Formulation, cohesive_matrix, generator_matrix, held_generators
+from ...formulation.scaling import scaled, scales
+from ...structure import Structure
+from ..certify import residuals
+from ..highs import INF, HighsLP
+from ..options import Deadline
+from ..state import CollapseState
+from ..tuning import FLOW_TOL
+
+
+def state_residuals(form: Formulation, state: CollapseState) -> dict:
+    """:func:`lamodel.search.certify.residuals` of a state against a formulation."""
+    return residuals(form, state.N, state.V, state.M, state.alpha, state.u, state.xi)
+
+
+class ScaledProblem:
+    """The LPs of one structure, scaled, built once and warm-started from solve to solve.
+
+    ``stat`` is the statics LP (columns lambda, alpha), ``coh`` the cohesive LP (columns
+    n1, n2, V per contact, alpha) and ``coh_r`` a copy of it for mechanisms restricted to
+    some rows. Every solve is given ``deadline`` (:meth:`until` gives another for a while);
+    methods raise :class:`~lamodel.search.options.Stopped` when it fires.
+    """
+
+    def __init__(self, structure: Structure, deadline: Deadline | None = None, verbose: int = 0):
+        self.t0 = time.perf_counter()
+        self.user = structure
+        self.deadline = deadline or Deadline()
+        self.verbose = verbose
+        self.F, self.L = scales(structure)
+        s = self.s = scaled(structure, self.F, self.L)
+        self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
+        self.form = Formulation.of(s)
+        self.user_form = Formulation.of(structure)
+        self.A, self.f0, self.fbar, self.Y, self.G = self.form.A, self.form.f0, self.form.fbar, self.form.Y, self.form.G
+        self.mu = s.mu
+        # --- statics in generator form: columns lambda (4 nc), alpha
+        self.T = generator_matrix(s)
+        self.Slam = (-(self.Y @ self.T)).tocsr()  # yield slacks = Slam @ lambda (>= 0)
+        assert self.Slam.min() >= 0
+        self.held_lams = held_generators(nc)
+        self.Slam.sort_indices()
+        on = (self.mu > 0)[np.arange(4 * nc) % nc] | (np.arange(4 * nc) >= 2 * nc)
+        check = self.Slam[np.flatnonzero(on)]
+        assert np.all(np.diff(check.indptr) == 2) and np.array_equal(check.indices.reshape(-1, 2),
+                                                                     self.held_lams[on])
+        rows = np.repeat(np.arange(4 * nc), 2)
+        self.row_of_pair = sp.csr_matrix((np.ones(8 * nc), (rows, self.held_lams.ravel())), shape=self.Slam.shape)
+        Ag = sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)]).tocsc()
+        self.nl = 4 * nc
+        lo = np.zeros(self.nl + 1)
+        hi = np.full(self.nl + 1, INF)
+        self.stat = HighsLP(Ag, -self.f0, np.zeros(self.nl + 1), lo, hi, "statics")
+        # --- fictitious cohesive LP: columns (n1, n2, V) per contact, alpha
+        self.Tc = cohesive_matrix(s)
+        Ac = sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)]).tocsc()
+        # Flow rows of the cohesive system in its own columns: one nonzero per row.
+        self.Gc = (self.G @ self.Tc).tocsr()
+        self.Gc.eliminate_zeros()
+        assert np.all(np.diff(self.Gc.indptr) == 1)
+        self.gc_col = self.Gc.indices.copy()   # column of each flow row
+        self.gc_val = self.Gc.data.copy()      # its coefficient
+        self.obj_scale = float(nb)  # objective scaled: duals (the mechanism) well above HiGHS's tolerance
+        cost = np.zeros(3 * nc + 1)
+        cost[-1] = -self.obj_scale
+        clo = np.zeros(3 * nc + 1)
+        chi = np.full(3 * nc + 1, INF)
+        self.coh = HighsLP(Ac, -self.f0, cost, clo, chi, "cohesive")
+        # Restricted mechanisms (flow allowed on some rows only) get their own copy: switching
+        # one LP between the two kinds cost 10-17 s a re-solve at 2040 blocks.
+        self.coh_r = HighsLP(Ac, -self.f0, cost, clo, chi, "cohesive-r")
+        self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}  # (snapshots name them)
+        if verbose > 1:
+            for lp in self.lps.values():
+                lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
+        self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see Fitness.merge)
+
+    # ------------------------------------------------------------------ bookkeeping
+    def elapsed(self):
+        return time.perf_counter() - self.t0
+
+    def n_lps(self):
+        """LP solves so far, those of evaluations merged from elsewhere included."""
+        return sum(lp.n_solves for lp in self.lps.values()) + self.lps_elsewhere
+
+    @contextmanager
+    def until(self, deadline: Deadline):
+        """Within the block, every LP solve is given ``deadline`` (e.g. a pure evaluation's,
+        or the whole time limit for the Ipopt points after the search's share)."""
+        before, self.deadline = self.deadline, deadline
+        try:
+            yield self
+        finally:
+            self.deadline = before
+
+    def bases(self):
+        """The LPs' current bases (portable: they pickle), by name."""
+        return {name: lp.portable_basis() for name, lp in self.lps.items()}
+
+    # ------------------------------------------------------------------- statics
+    def forces(self, lam):
+        return self.T @ lam[:self.nl]
+
+    def N_of(self, lam):
+        return (self.T @ lam[:self.nl])[:self.nc]
+
+    def statics(self, cost_lam=None, held=None, maximize=False, cap=None, alpha_cost=1.0):
+        """Optimise over S in generator form: min (max) alpha_cost alpha + cost_lam^T lambda
+        with the yield rows ``held`` (bool, 4 nc) at equality. Returns (status, x)."""
+        cost = np.zeros(self.nl + 1)
+        cost[-1] = -alpha_cost if maximize else alpha_cost
+        if cost_lam is not None:
+            cost[:self.nl] = cost_lam
+        hi = np.full(self.nl + 1, INF)
+        if held is not None and held.any():
+            hi[:self.nl][self.zeroed(held)] = 0.0
+        self.stat.set_cost(cost)
+        self.stat.set_bounds(np.zeros(self.nl + 1), hi)
+        status = self.stat.solve(cap, self.deadline)
+        if status != "optimal":
+            return status, None
+        x = np.maximum(self.stat.x(), 0.0)
+        return status, x
+
+    def zeroed(self, held):
+        """The lambdas (bool, 4 nc) that holding the yield rows ``held`` sets to zero."""
+        out = np.zeros(self.nl, bool)
+        out[self.held_lams[held].ravel()] = True
+        return out
+
+    def slack(self, lam):
+        """The yield slacks (4 nc, >= 0) of a statics in generator form."""
+        return self.Slam @ lam[:self.nl]
+
+    def active_rows(self, lam, tol):
+        """Yield rows whose slack is at most ``tol`` times the statics' largest entry (or 1)."""
+        return self.slack(lam) <= tol * max(1.0, np.abs(lam).max())
+
+    def gap_weights(self, xi):
+        """w with w^T lambda = alpha_K(N(lambda)) - alpha = slack^T xi (virtual work)."""
+        return self.Slam.T @ xi
+
+    # ----------------------------------------------------------------- mechanism
+    def mechanism(self, c, allowed=None):
+        """The cohesive LP for cohesions c (>= 0), flow allowed on rows ``allowed`` only.
+
+        Returns (status, alpha_as, x, u, xi): its statics x (n1, n2, V, alpha) and its
+        mechanism (u, xi) of least alpha_K, exact from the final basis, fbar^T u = 1.
+        """
+        nc = self.nc
+        c = np.maximum(np.asarray(c, float), 0.0)
+        lo = np.zeros(3 * nc + 1)
+        hi = np.full(3 * nc + 1, INF)
+        lo[2::3][:nc], hi[2::3][:nc] = -c, c
+        if allowed is not None:
+            # a row that may not flow is a constraint dropped from the primal
+            off = np.flatnonzero(~np.asarray(allowed, bool))
+            kind, col = off // nc, self.gc_col[off]
+            hi[col[kind == 0]] = INF       # slide+: V <= c
+            lo[col[kind == 1]] = -INF      # slide-: V >= -c
+            lo[col[kind >= 2]] = -INF      # hinge: compression >= 0 at that end
+        lp = self.coh if allowed is None else self.coh_r
+        if lp.cold and not self.coh.cold:
+            lp.h.setBasis(self.coh.h.getBasis())  # start from the unrestricted one's basis
+            lp.cold = False
+        lp.set_bounds(lo, hi)
+        status = lp.solve(deadline=self.deadline)
+        if status != "optimal":
+            return status, np.nan, None, None, None
+        x = lp.x()
+        y, z = lp.exact_duals()
+        u = -y / self.obj_scale
+        fu = self.fbar @ u
+        if not fu > 0:
+            return "degenerate", np.nan, None, None, None
+        u = u / fu
+        z = z / (self.obj_scale * fu)
+        # compatibility in the cohesive columns: Gc^T xi = -(A Tc)^T u = -z on the (n, V) columns
+        xi = np.maximum(-z[self.gc_col] / self.gc_val, 0.0)
+        if allowed is not None:
+            xi[~allowed] = 0.0
+        top = xi.max() if xi.size else 0.0
+        xi[xi <= FLOW_TOL * top] = 0.0
+        return status, float(x[-1]), x, u, xi
+
+    def cohesive_N(self, xc):
+        """Normal forces of a cohesive LP's statics (columns n1, n2, V per contact)."""
+        return (self.Tc @ xc[:3 * self.nc])[:self.nc]
+
+    # ---------------------------------------------------------------- user units
+    def state(self, x, u, xi, flow, source) -> CollapseState:
+        """The collapse state of statics x (generator form) and mechanism (u, xi) flowing on
+        ``flow``, with its residuals (scaled units)."""
+        s = self.forces(x)
+        nc = self.nc
+        state = CollapseState(alpha=float(x[-1]), N=s[:nc].copy(), V=s[nc:2 * nc].copy(), M=s[2 * nc:].copy(),
+                              u=u.copy(), xi=np.where(flow, xi, 0.0), flow=flow.copy(), source=source)
+        state.residual = state_residuals(self.form, state)
+        return state
+
+    def to_user(self, st: CollapseState) -> CollapseState:
+        """A scaled state in the user's units (re-checked there)."""
+        F, L, nc = self.F, self.L, self.nc
+        u = st.u.copy()
+        u[0::3] *= L
+        u[1::3] *= L
+        u /= F * L          # fbar^T u = 1 in user units
+        xi = st.xi.copy()
+        xi[:2 * nc] *= L    # slips are lengths, hinge flows rotations
+        xi /= F * L
+        out = CollapseState(alpha=st.alpha, N=st.N * F, V=st.V * F, M=st.M * F * L, u=u, xi=xi,
+                            flow=st.flow.copy(), source=st.source)
+        out.residual = state_residuals(self.user_form, out)
+        return out

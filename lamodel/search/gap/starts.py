@@ -1,0 +1,213 @@
+"""Where the gap alternation starts from, in the order the search uses them.
+
+1. :meth:`Starts.associative`: max alpha over S, the associative bound and first statics.
+2. :meth:`Starts.first_certificate`: the alternation on RHO_MAIN from there and, if it
+   certifies nothing, :meth:`Starts.rescue`.
+3. :meth:`Starts.stable`: some statics carries the dead load alone.
+4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS).
+5. The GA's evaluations (:mod:`.fitness`): :meth:`Starts.perturbed` cohesions and the
+   seed's fixed-point :meth:`Starts.chain`.
+
+Where an alternation stalls without a certificate, :meth:`Starts.certify_near` certifies
+from the rows its statics nearly holds.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..highs import INF
+from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN, SEARCH_ACTIVE,
+                      STABLE_ALPHA)
+from .alternation import Alternation
+from .certify import Certifier
+from .descent import Descent
+from .problem import ScaledProblem
+from .record import Record
+
+
+def _least(best, st):
+    """The lesser of two certified states (either may be None)."""
+    return st if st is not None and (best is None or st.alpha < best.alpha) else best
+
+
+class Starts:
+    """The starts of the search on a problem; each returns its least certified state (or None)."""
+
+    def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, alternation: Alternation,
+                 record: Record):
+        self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
+        self.alternate = alternation.alternate
+
+    def _stalled_below_best(self, x, best):
+        return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
+
+    # ---------------------------------------------------------------- associative
+    def associative(self):
+        """Stability and the associative bound. Returns (status, alpha_assoc, x_assoc):
+        status 'ok', 'unstable' (S is empty), 'unbounded' (x: a least-alpha statics) or
+        HiGHS's word."""
+        t = time.perf_counter()
+        p = self.problem
+        try:
+            status, x = p.statics(maximize=True)
+            if status == "infeasible":
+                return "unstable", np.nan, None
+            if status == "unbounded":
+                _, x = p.statics()  # least alpha instead: start somewhere finite
+                return "unbounded", INF, x
+            if status != "optimal":
+                return status, np.nan, None
+            return "ok", float(x[-1]), x
+        finally:
+            self.record.phase("associative", t)
+
+    def stable(self) -> bool:
+        """Some statics carries the dead load alone (min alpha over S is 0).
+
+        Solved warm from the last basis (a certification LP's, near the least alpha):
+        cheap after a certificate, where a cold start costs as much as the associative LP.
+        """
+        t = time.perf_counter()
+        stat = self.problem.stat
+        before = None if stat.cold else stat.h.getBasis()
+        try:
+            status, x = self.problem.statics()
+            return status == "optimal" and x[-1] <= STABLE_ALPHA
+        finally:
+            if before is not None and not stat.abandoned:
+                # Back to the basis near the collapse states: from the alpha = 0 vertex
+                # every later certification LP of a 1020-block wall hit its iteration cap
+                # (6120 iterations, 4.4 s each) and the exploration certified nothing.
+                stat.h.setBasis(before)
+            self.record.phase("stability", t)
+
+    # ------------------------------------------------------------ first certificate
+    def first_certificate(self, x_assoc):
+        """The gap alternation from the associative statics and, if it certifies nothing,
+        the rescue from where it stalled."""
+        _, x = self.alternate(x_assoc, source="gap")
+        if self.record.best is None:
+            self.rescue(x_assoc, x)
+
+    def rescue(self, x_assoc, x_stall=None):
+        """When the main ladder certifies nothing: higher rho from where it stalled (the
+        gap, and the flows on slack rows, shrink with rho: 2040 blocks), then from the
+        associative state with flow on slack rows forbidden, and a low rho ladder; each
+        followed by certification from near-active rows."""
+        best = None
+        starts = [(x_assoc, dict(rhos=RHO_MAIN, forbid_slack=True)), (x_assoc, dict(rhos=RHO_LOW))]
+        if x_stall is not None:
+            starts.insert(0, (x_stall, dict(rhos=RHO_HIGH)))
+        for x0, kw in starts:
+            st, x = self.alternate(x0, source="rescue", **kw)
+            best = _least(best, st)
+            best = _least(best, self.certify_near(x, "rescue-near"))
+            if best is not None:
+                break
+        return best
+
+    # -------------------------------------------------------------- continuations
+    def continuations(self, x_assoc):
+        """The continuation starts (one per ladder of RHO_CONTS, in turn); then the LPs get
+        back the bases they had before them (a cold LP is made cold again), so that what
+        follows (the GA, serial or pure evaluations from a snapshot) starts where it would
+        without them: measured, a 28-block wall's parallel GA certified nothing from the
+        bases the continuation left."""
+        lps = self.problem.lps
+        saved = {name: None if lp.cold else lp.h.getBasis() for name, lp in lps.items()}
+        for rhos in RHO_CONTS:
+            self.continuation(x_assoc, rhos)
+        for name, lp in lps.items():
+            if saved[name] is None:
+                lp.restart(None)
+            else:
+                lp.h.setBasis(saved[name])
+
+    def continuation(self, x_assoc, rhos=RHO_CONTS[0]):
+        """A start from the associative statics on the penalty ladder ``rhos``: a
+        low rho lets alpha fall far before the gap is squeezed out, into other collapse
+        states than the main ladder's (the penalty method's continuation). Where it stalls
+        below the best certified alpha, rho goes on up (RHO_HIGH) and the rows the statics
+        nearly holds are certified. Returns the least certified state of the start (or None)."""
+        t = time.perf_counter()
+        try:
+            best, x = self.alternate(x_assoc, rhos=rhos, source="continuation")
+            if self._stalled_below_best(x, self.record.best):
+                st, x = self.alternate(x, rhos=RHO_HIGH, source="continuation")
+                best = _least(best, st)
+                if self._stalled_below_best(x, self.record.best):
+                    best = _least(best, self.certify_near(x, "continuation-near"))
+            return best
+        finally:
+            self.record.phase("continuation", t)
+
+    # ---------------------------------------------------------- near-active rows
+    def certify_near(self, x, source, first=False):
+        """Certification from the rows a statics holds nearly active, at several tolerances
+        (``first``: stop at the first tolerance that certifies)."""
+        p = self.problem
+        return self.certify_slack(p.slack(x), max(1.0, np.abs(x).max()), p.N_of(x), source, first=first)
+
+    def certify_slack(self, slack, scale, N, source, tols=SEARCH_ACTIVE, first=False):
+        """For each tolerance: the rows with slack <= tol * scale may flow; the least-alpha_K
+        mechanism on them for cohesions -mu N, certified and descended. The least alpha
+        certified (``first``: at the first tolerance that certifies), or None."""
+        best = None
+        c = -self.problem.mu * N
+        tried = set()
+        for tol in tols:
+            allowed = slack <= tol * scale
+            key = allowed.tobytes()
+            if key in tried or not allowed.any():
+                continue
+            tried.add(key)
+            status, _, _, u, xi = self.problem.mechanism(c, allowed)
+            if status != "optimal":
+                continue
+            st = self.certifier.certify(u, xi, source)
+            if st is not None:
+                best = _least(best, self.descent.descend(st))
+                if first:
+                    break
+        return best
+
+    # -------------------------------------------------------- the GA's local search
+    def chain(self, c, steps, source="chain"):
+        """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism."""
+        p = self.problem
+        best = None
+        for _ in range(steps):
+            status, _, xc, u, xi = p.mechanism(c)
+            if status != "optimal":
+                break
+            st = self.certifier.certify(u, xi, source)
+            if st is not None:
+                best = _least(best, self.descent.descend(st))
+            c_new = -p.mu * p.cohesive_N(xc)
+            if np.allclose(c_new, c, rtol=CHAIN_RTOL, atol=CHAIN_ATOL):
+                break
+            c = c_new
+        return best
+
+    def perturbed(self, c, source="perturb"):
+        """Cohesions c: a mechanism, then the gap alternation from the best statics for it."""
+        p = self.problem
+        status, _, _, u, xi = p.mechanism(c)
+        if status != "optimal":
+            return None
+        best = self.certifier.certify(u, xi, source)
+        if best is not None:
+            best = self.descent.descend(best)
+        # capped: from a far perturbation the first gap step can take 10 s at 1020 blocks
+        # (12,000 iterations), the time of many cheaper perturbations
+        status, x = p.statics(cost_lam=RHO_MAIN[0] * p.gap_weights(xi), cap=self.certifier.cap())
+        if status == "optimal":
+            st, x = self.alternate(x, source=source)
+            best = _least(best, st)
+            if self._stalled_below_best(x, best):
+                # the alternation stalled below what it certified (flows left on slack
+                # rows): mechanisms on the rows this statics nearly holds
+                best = _least(best, self.certify_near(x, source + "-near"))
+        return best

@@ -1,0 +1,162 @@
+"""Every tuned constant and tolerance of the search, in one place.
+
+Each says what it decides and the measurement behind it. "Round-off margin" marks a
+tolerance that only absorbs floating-point error (no measurement chose it: any value
+well above round-off and well below the effects it separates gives the same answers).
+The search runs on the non-dimensional problem (:mod:`lamodel.formulation.scaling`):
+forces O(1) per block, lengths O(1) for the structure, so absolute and relative
+tolerances mean the same on 30 and 3000 blocks.
+"""
+from __future__ import annotations
+
+# ============================================================================== HiGHS
+#: Feasibility tolerances (primal and dual) of every LP whose alpha is reported or
+#: certified. HiGHS's default 1e-7 moves alpha by ~2e-6 on a 200-block wall (measured);
+#: at 1e-9 simplex and IPM agree to 1e-10.
+LP_TOLERANCE = 1e-9
+#: ... and of the cold interior-point start (then the warm simplex clean-up reaches
+#: LP_TOLERANCE): at 1e-9 IPX's crossover is "imprecise" on large models (2040 blocks: dual
+#: infeasibility 6e-6) and HiGHS falls back to a dual simplex clean-up of 44,000 iterations
+#: (150 s); from the 1e-7 crossover basis the warm primal simplex takes a few iterations.
+IPM_TOLERANCE = 1e-7
+#: LPs with more columns than this (the search's and the published methods' alike) start
+#: cold with the interior point method plus crossover: a cold simplex start on a large,
+#: degenerate statics LP takes minutes (820-block wall: 104 s against 7.5 s).
+IPM_COLUMNS = 1500
+#: LPs with at most this many columns run in the calling thread: every solve takes
+#: milliseconds and HiGHS's interrupt callback suffices, where a thread costs ~1 ms a solve.
+INLINE_COLUMNS = IPM_COLUMNS
+#: While HiGHS runs in a worker thread the caller checks the deadline this often (s): a stop
+#: takes effect within a slice even where HiGHS calls no interrupt callback (crossover).
+WAIT_SLICE = 0.05
+#: At interpreter exit, wait at most this long (s) for abandoned HiGHS solves to end.
+ABANDONED_EXIT_WAIT = 5.0
+#: A primal recomputed from the final basis (HighsLP.exact_x) is kept only if its basic
+#: equality rows and its bounds hold to this, relative to its largest entry: round-off margin.
+BASIS_TOLERANCE = 1e-9
+#: Cap of a statics LP that may be hard (certification, hold and the first gap step of a
+#: perturbation): this many simplex iterations a row of the statics. Warm solves mostly take a
+#: few iterations, the hardest of the 255- and 510-block running-bond walls up to 1.9 a row.
+#: Counted, not timed: a seed gives the same answer on any machine and with any workers.
+CERTIFY_CAP_ROWS = 2.0
+#: A capped solve also stops after CAP_BACKSTOP times the time its cap takes at the LP's
+#: mean warm speed (measured over CAP_BACKSTOP_SAMPLE iterations; CAP_BACKSTOP_MIN s at
+#: least): HiGHS's dual simplex on near-singular bases once took 25 s for 241 iterations
+#: where 6,000 take 4 s (1020 blocks). Only such a pathological solve meets it.
+CAP_BACKSTOP, CAP_BACKSTOP_MIN, CAP_BACKSTOP_SAMPLE = 2.0, 2.0, 200
+
+# ===================================================================== gap alternation
+#: rho ladders of the gap step min alpha + rho (alpha_K - alpha): the main one (wall33 and
+#: wall55 reach Table 1 from it), the low one tried when the main one certifies nothing, and
+#: the one that goes on from where a ladder stalled (the gap, and the flows on slack rows,
+#: shrink with rho: 2040 blocks).
+RHO_MAIN = (1e3, 1e4)
+RHO_LOW = (2.0, 10.0, 100.0, 1e3)
+RHO_HIGH = (1e5, 1e6, 1e7)
+#: The continuation starts: the penalty raised from a low rho, so that the statics can first
+#: move far from the associative state's mechanism. Measured at 1020 blocks: the main ladder
+#: certifies 0.445755; these stall near 0.4448 and, pushed on with RHO_HIGH, certify
+#: 0.444911-0.444968 about half of the time (the degenerate LPs' vertices depend on their warm
+#: bases), hence two ladders.
+RHO_CONTS = ((10.0, 100.0, 1e3, 1e4), (30.0, 300.0, 1e3, 1e4))
+#: A mechanism whose gap is below GAP_CERTIFY * max(1, alpha) is worth a certification LP.
+GAP_CERTIFY = 1e-6
+#: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold
+#: step: near convergence the least-alpha_K mechanism flows 1e-8..3e-7 of its largest flow on
+#: a few slack rows (1020 blocks) and the gap step stalls at a gap ~1e-8.
+GAP_HOLD = 1e-6
+#: Below this gap (times max(1, alpha)) a mechanism step forbids flow on slack rows (2040
+#: blocks: flows ~3e-7 of the largest on heavily compressed rows held the gap near 4e-8).
+GAP_FORBID = 1e-6
+#: The alternation stops a rho when alpha + rho gap falls by less than this (relative):
+#: round-off margin.
+STALL = 1e-9
+#: Flows below this fraction of the largest are zero (they cost compatibility <= this).
+FLOW_TOL = 1e-9
+#: A stalled mechanism whose flows on slack rows are all below this fraction of its largest
+#: is certified without them (1020 blocks: 4e-8..6e-8, gap 4e-9, and no statics holds them);
+#: its compatibility then errs by about that much, within RESIDUAL_TOLERANCE (the residual
+#: check decides).
+NEAR_FLOW = 1e-7
+
+# =================================================================== which rows are held
+#: Relative thresholds on slack that call a yield row active (it may flow), tightest first.
+#: The certification of an Ipopt point tries all of them; the search's own near-active
+#: certifications try SEARCH_ACTIVE of them (1e-4 left out: the search's ladder was measured
+#: without it), descents the first two.
+ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
+SEARCH_ACTIVE = tuple(t for t in ACTIVE_TOLERANCES if t != 1e-4)
+#: A gap step with flow on slack rows forbidden lets flow only where the slack is below this
+#: (relative): the loosest of the ladder.
+FORBID_ACTIVE = ACTIVE_TOLERANCES[-1]
+#: Pressure step: how many of the most pushing held rows are released one by one, then how
+#: many of the top ones together.
+PRESSURE_SINGLE, PRESSURE_GROUPS = 8, (2, 4, 8)
+#: Caps on steps (safety bounds, not tuned: every run measured so far ends on its own stall
+#: rule first): mechanism/gap steps per rho, descent steps from a certified state.
+ALTERNATION_MAX_STEPS, DESCENT_MAX_STEPS = 200, 30
+#: A held lambda "pushes" when its reduced cost is below -PUSH: round-off margin.
+PUSH = 1e-12
+
+# ====================================================== what counts as better, or stable
+#: A certified alpha is a new best only below best - IMPROVEMENT * max(1, |alpha|);
+#: the hold step, too, must lower alpha by this much: round-off margin.
+IMPROVEMENT = 1e-12
+#: A descent step (and the GA's stopping rule) must lower alpha by this much (relative to
+#: max(1, alpha)): round-off margin, above IMPROVEMENT so that a descent does not loop on
+#: states that differ by round-off.
+DESCENT_STEP = 1e-10
+#: A ladder "stalled below the best" when its statics' alpha is below the best certified
+#: one by this (relative): then it goes on (RHO_HIGH, near-active certification).
+BELOW_BEST = 1e-9
+#: Stable under dead load: min alpha over S is at most this (non-dimensional): round-off.
+STABLE_ALPHA = 1e-9
+#: The seed's fixed-point chain has converged when the cohesions repeat to these (relative,
+#: absolute) tolerances: round-off margins.
+CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
+#: A certified state must satisfy every condition of a collapse state to this relative
+#: accuracy (lamodel.search.certify.residuals), in the scaled frame and in the user's. Two
+#: orders above LP_TOLERANCE, so that states recomputed from an exact basis pass; a bound
+#: on what the flows dropped by NEAR_FLOW may cost.
+RESIDUAL_TOLERANCE = 1e-7
+
+# ================================================================= the GA and the driver
+#: GA genes: log-perturbations of the cohesions, within +-Z_MAX; the initial population's
+#: spreads cycle through Z_INIT (small, medium and large perturbations).
+Z_MAX, Z_INIT = 3.0, (0.1, 0.3, 1.0)
+#: GA stopping rule: a population's worth of evaluations (measured: fewer missed a half
+#: block sliding out alone on a tied wall), and this many times the LP solves of the first
+#: certificate, without improvement.
+STALL_WORK = 3.0
+#: While waiting for a parallel evaluation the search checks its deadline this often (s).
+EVALUATION_SLICE = 0.1
+#: Ipopt starts when --starts is not given.
+DEFAULT_STARTS = 2
+#: Without a time limit and without --starts, a start runs only if estimated to take at
+#: most this many seconds (the default run stays fast; ask with --starts for more).
+POLISH_SECONDS = 1.0
+#: With a time limit, the Ipopt starts may have at most this share of it (a start estimated
+#: to take longer is skipped); the search runs in the rest.
+POLISH_SHARE = 0.5
+#: The GA's fitness of a genome that certifies nothing: this plus the best alpha (worse than
+#: any certified state; alpha is a multiplier of order 1).
+NO_CERTIFICATE = 10.0
+
+# ==================================================================== Ipopt on eq. (5)
+#: The epsilon ladder of the relaxed bilinear condition 0 <= alpha_K - alpha <= epsilon, as
+#: fractions of max(1, alpha); the last stage is eq. (5) exactly.
+EPSILON_LADDER = (1e-3, 1e-5, 0.0)
+#: Ipopt options for the warm-started ladder (its start points are nearly feasible).
+IPOPT_OPTIONS = {"tol": 1e-8, "acceptable_tol": 1e-6, "constr_viol_tol": 1e-9, "mu_init": 1e-6,
+                 "bound_push": 1e-8, "bound_frac": 1e-8, "max_iter": 150, "mumps_pivot_order": 0,
+                 # Ipopt relaxes bounds by 1e-8 by default: a tension N = +1e-8 on an open joint
+                 # times xi at its bound makes a fake, lower alpha_K (measured on wall55: 4.5e-5).
+                 "bound_relax_factor": 0.0}
+#: ... and those of every warm-started stage after the first (the previous stage's point and
+#: multipliers pushed into the bounds no further than this).
+IPOPT_WARM_OPTIONS = {"warm_start_init_point": "yes", "warm_start_bound_push": 1e-9,
+                      "warm_start_mult_bound_push": 1e-9}
+#: Estimated seconds of one Ipopt start: IPOPT_ITERATIONS iterations of IPOPT_SECONDS_1020
+#: (nb / 1020)^IPOPT_GROWTH each (measured with Debian's Ipopt 3.11 and sequential MUMPS:
+#: 12 ms at 55 blocks, 2.4 s at 1020).
+IPOPT_ITERATIONS, IPOPT_SECONDS_1020, IPOPT_GROWTH = 250, 2.4, 1.8

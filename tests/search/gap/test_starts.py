@@ -1,0 +1,45 @@
+"""The starts of the gap alternation."""
+import numpy as np
+
+from lamodel.search.gap import GapSearch
+from lamodel.search.tuning import RHO_CONTS
+
+from .helpers import bond, collapse_violation
+
+
+def test_continuation_starts_certify_and_give_the_lps_their_bases_back():
+    """The continuation starts (rho raised from a low value) leave every LP with the basis
+    it had (the GA after them starts where it would without them), and return certified
+    states that pass the independent check, never above the associative bound."""
+    s = bond(6, width=8)
+    e = GapSearch(s)
+    _, a_assoc, x0 = e.starts.associative()
+    e.starts.first_certificate(x0)
+    e.starts.stable()
+    lps = e.problem.lps
+    before = {name: lp.portable_basis() for name, lp in lps.items()}
+    e.starts.continuations(x0)
+    for name, lp in lps.items():
+        after = lp.portable_basis()
+        if before[name] is None:
+            assert after is None
+        else:
+            assert all(np.array_equal(b, a) for b, a in zip(before[name], after))
+    found = [e.starts.continuation(x0, rhos) for rhos in RHO_CONTS]
+    assert any(st is not None for st in found)
+    for st in found:
+        if st is not None:
+            assert st.alpha <= a_assoc + 1e-9
+            assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7
+
+
+def test_near_active_rows_certify_a_stalled_statics():
+    """From the last statics of an alternation, the mechanisms on its nearly active rows
+    certify a state no lower than what the whole search can reach, and a valid one."""
+    s = bond(4, width=6)
+    e = GapSearch(s)
+    _, a_assoc, x0 = e.starts.associative()
+    _, x = e.alternation.alternate(x0)
+    st = e.starts.certify_near(x, "near")
+    assert st is not None and st.alpha <= a_assoc + 1e-9
+    assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7

@@ -1,0 +1,94 @@
+"""The one HiGHS wrapper: stops within a slice, iteration caps that give back the
+starting basis, a time backstop on capped solves, the primal exact from the basis."""
+import time
+
+import numpy as np
+import pytest
+
+import lamodel.search.highs as highs
+from lamodel.io import read
+from lamodel.search.gap.problem import ScaledProblem
+from lamodel.search.options import Deadline, Stopped
+
+from conftest import INSTANCES
+from gap.helpers import bond
+
+
+def _stopping_at(fire):
+    return Deadline.after(None, lambda: bool(fire) and time.monotonic() >= fire[0])
+
+
+@pytest.mark.slow
+def test_stop_during_the_first_cold_lp():
+    """A stop asked for during the first (cold, interior point + crossover) LP of a
+    medium wall takes effect within a slice, not when HiGHS finishes; the LP then
+    raises Stopped on any further use."""
+    fire = []
+    p = ScaledProblem(bond(20), _stopping_at(fire))  # 510 blocks: the cold LP takes seconds
+    fire.append(time.monotonic() + 0.3)
+    t = time.perf_counter()
+    with pytest.raises(Stopped):
+        p.statics(maximize=True)
+    assert time.perf_counter() - t < 5.0
+    with pytest.raises(Stopped):
+        p.statics(maximize=True)
+
+
+@pytest.mark.slow
+def test_stop_where_highs_calls_no_callback():
+    """HiGHS's crossover calls no interrupt callback; the worker thread makes that not
+    matter: with HiGHS's callbacks off, a stop still returns at once."""
+    fire = []
+    p = ScaledProblem(bond(20), _stopping_at(fire))
+    p.stat.h.cbSimplexInterrupt.unsubscribe(p.stat._interrupt)
+    p.stat.h.cbIpmInterrupt.unsubscribe(p.stat._interrupt)
+    fire.append(time.monotonic() + 0.3)
+    t = time.perf_counter()
+    with pytest.raises(Stopped):
+        p.statics(maximize=True)
+    assert time.perf_counter() - t < 5.0
+    assert p.stat.abandoned
+
+
+def test_exact_primal_from_the_basis():
+    """The statics recomputed from HiGHS's final basis satisfies equilibrium to round-off
+    (HiGHS's own solution only to its tolerance on its scaled model), keeps the bounds,
+    and has the same alpha."""
+    p = ScaledProblem(bond(10))
+    status, x = p.statics(maximize=True)
+    assert status == "optimal"
+    xe = p.stat.exact_x()
+    scale = max(1.0, np.abs(xe).max())
+    assert np.abs(p.stat.A @ xe - p.stat.b).max() <= 1e-12 * scale
+    assert (xe >= 0).all()
+    assert xe[-1] == pytest.approx(x[-1], abs=1e-8)
+
+
+def test_a_capped_solve_returns_to_its_starting_basis():
+    p = ScaledProblem(read(INSTANCES / "wall55.dat"))
+    p.statics(maximize=True)  # max alpha: a basis far from min alpha's
+    before = p.stat.portable_basis()
+    status, x = p.statics(cap=1)  # min alpha needs many more iterations than 1
+    assert status == "iteration limit" and x is None
+    after = p.stat.portable_basis()
+    assert all(np.array_equal(a, b) for a, b in zip(before, after))
+    assert p.statics()[0] == "optimal"  # uncapped, the same LP solves
+
+
+@pytest.mark.slow
+def test_a_capped_solve_that_crawls_stops_at_its_backstop_as_if_capped(monkeypatch):
+    """HiGHS's dual simplex on near-singular bases once took 25 s for 241 iterations of a
+    capped certification LP (1020 blocks): a capped solve also stops after a time backstop,
+    and that counts as its cap (back at its starting basis, the search goes on), not as
+    the deadline."""
+    p = ScaledProblem(bond(10))
+    assert p.stat.n > highs.INLINE_COLUMNS  # solved in a worker thread
+    p.statics(maximize=True)  # max alpha: min alpha from here takes many iterations
+    before = p.stat.portable_basis()
+    p.stat.warm_iterations, p.stat.warm_seconds = 10 ** 9, 1e-12  # "iterations are fast"
+    monkeypatch.setattr(highs, "CAP_BACKSTOP_MIN", 0.0)  # so the backstop is HiGHS's least time limit, 1 ms
+    status, x = p.statics(cap=10 ** 6)
+    monkeypatch.undo()
+    assert status == "iteration limit" and x is None
+    assert all(np.array_equal(a, b) for a, b in zip(before, p.stat.portable_basis()))
+    assert p.statics()[0] == "optimal" and not p.deadline.expired()
