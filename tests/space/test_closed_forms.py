@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from builders import box_on_ground
+from builders3d import box_on_ground
 from lamodel.search.certify3d import RESIDUAL_TOLERANCE
 from lamodel.search.search3d import solve3d
 
@@ -100,7 +100,7 @@ def test_random_blocks_slide_or_overturn_at_the_closed_form():
 
 @pytest.mark.parametrize("phi, mu", [(0, 0.6), (35, 0.6), (70, 0.6), (35, 0.1)])
 def test_stack_of_blocks_turns_as_a_whole_or_slides(phi, mu):
-    from builders import stack_of_boxes
+    from builders3d import stack_of_boxes
     p = np.radians(phi)
     n, a, b, h = 3, 1.0, 0.8, 0.5
     c, s = np.cos(p), np.sin(p)

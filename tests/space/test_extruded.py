@@ -4,13 +4,13 @@ measured."""
 import numpy as np
 import pytest
 
-from builders import box_on_ground, transformed
+from builders3d import box_on_ground, transformed
 from lamodel.formulation.extrude import extrude
 from lamodel.io import read
 from lamodel.search.certify3d import RESIDUAL_TOLERANCE
 from lamodel.search.gap import GapSearch
 from lamodel.search.search3d import solve3d
-from conftest_paths import INSTANCES
+from conftest import INSTANCES
 
 SEED = ["wall33.dat", "wall55.dat", "arch.json", "portal.json", "portal_columns.json"]
 
@@ -19,7 +19,7 @@ def planar_first_certificate(s2):
     eng = GapSearch(s2)
     _, _, x0 = eng.starts.associative()
     eng.starts.first_certificate(x0)
-    return eng.record.best.alpha
+    return eng.record.first[0]
 
 
 @pytest.mark.parametrize("name", SEED)

@@ -1,8 +1,8 @@
 """Eq. 1-2 in space and the residual test of certification."""
 import numpy as np
 
-from builders import box_on_ground
-from conftest_paths import INSTANCES
+from builders3d import box_on_ground
+from conftest import INSTANCES
 from lamodel.formulation.extrude import extrude
 from lamodel.formulation.matrices import equilibrium_matrix as planar_matrix
 from lamodel.formulation.space import Formulation3D, equilibrium_matrix

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from pyomo.environ import ConcreteModel, Objective, SolverFactory, value
 
-from builders import box_on_ground
+from builders3d import box_on_ground
 from lamodel.formulation.model3d import LimitAnalysisBlock3D, create_model3d, get_state3d, set_state3d
 from lamodel.formulation.space import Formulation3D
 from lamodel.solvers.bridge import ipopt_available

@@ -1,3 +1,0 @@
-from pathlib import Path
-
-INSTANCES = Path(__file__).resolve().parents[2] / "instances"
