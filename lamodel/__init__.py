@@ -33,6 +33,8 @@ _LAZY = {
     "solve": "lamodel.search.driver",
     "SolveOptions": "lamodel.search.options",
     "Results": "lamodel.output.results",
+    "analyse": "lamodel.output.present",
+    "Analysis": "lamodel.output.present",
     "LimitAnalysisBlock": "lamodel.formulation.model",
     "create_model": "lamodel.formulation.model",
     "create_abstract_model": "lamodel.formulation.model",

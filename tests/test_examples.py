@@ -144,7 +144,7 @@ def test_friction_study_on_a_stack(stack):
 
 def test_with_dead_force_copies(stack):
     from lamodel.errors import InputError
-    from lamodel.studies import with_dead_force
+    from lamodel.variants import with_dead_force
     tied = with_dead_force(stack, "b2", fx=-0.4)
     assert tied.dead[1].tolist() == pytest.approx([stack.dead[1, 0] - 0.4, stack.dead[1, 1]])
     assert stack.dead[1, 0] == 0.0
@@ -153,7 +153,7 @@ def test_with_dead_force_copies(stack):
 
 
 def test_write_csv_is_atomic_and_exact(tmp_path):
-    from lamodel.studies import write_csv
+    from lamodel.io.files import write_csv
     x = np.random.default_rng(0).random(50)
     path = tmp_path / "deep" / "t.csv"
     write_csv(pd.DataFrame({"x": x}), path)

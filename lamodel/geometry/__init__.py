@@ -3,11 +3,3 @@ arches and portals (as JSON specs; :func:`lamodel.io.jsonspec.structure_from_jso
 the Structure)."""
 from .contacts import find_contacts  # noqa: F401
 from .generators import arch, portal, running_bond_wall, seed_instances, seed_wall, wall_with_openings  # noqa: F401
-
-
-def __getattr__(name):
-    # The JSON reader lives in lamodel.io; kept reachable here for users of the old path.
-    if name in ("structure_from_json", "structure_to_json"):
-        from ..io import jsonspec
-        return getattr(jsonspec, name)
-    raise AttributeError(f"module 'lamodel.geometry' has no attribute '{name}'")

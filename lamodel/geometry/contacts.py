@@ -68,7 +68,7 @@ def _clean_polygon(v: np.ndarray, tol: float, at: str) -> np.ndarray:
     return v
 
 
-def _clean_polygons(raw, tol, ids, where):
+def clean_polygons(raw, tol, ids, where):
     """:func:`_clean_polygon` for all bodies, vectorised over polygons of equal vertex count.
 
     Polygons already clean (no repeated or collinear vertex, convex, positive area) are
@@ -103,7 +103,7 @@ def _clean_polygons(raw, tol, ids, where):
     return out
 
 
-def _area_centroid(polygons):
+def area_centroid(polygons):
     """Areas and centroids of counter-clockwise polygons (shoelace formula, vectorised
     over polygons of equal vertex count, relative to a vertex to limit round-off)."""
     area = np.empty(len(polygons))

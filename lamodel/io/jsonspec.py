@@ -68,7 +68,7 @@ import numpy as np
 
 from ..errors import InputError
 from .files import read_text
-from ..geometry.contacts import _area_centroid, _clean_polygons, find_contacts
+from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
 from ..structure import Structure
 
 #: Geometric tolerance relative to the size of the model (diagonal of its bounding box):
@@ -206,8 +206,8 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
     size = float(np.hypot(*(allv.max(axis=0) - allv.min(axis=0)))) or 1.0
     tol = rel_tol * size
 
-    polygons = _clean_polygons(raw, tol, ids, where)
-    area, centroid = _area_centroid(polygons)
+    polygons = clean_polygons(raw, tol, ids, where)
+    area, centroid = area_centroid(polygons)
 
     contacts = find_contacts(polygons, is_support, tol, ids=ids, where=where)
     ia, ib = contacts["a"], contacts["b"]

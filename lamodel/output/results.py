@@ -33,8 +33,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..io.files import ResultFolder
-from .folder import TABLE_FILES
+from .folder import TABLE_FILES, ResultFolder
 from .modes import MODES
 
 
@@ -327,7 +326,7 @@ class Results:
         runs.csv (and what ``also(staging_folder)`` writes there, e.g. the picture).
 
         Everything is written into a hidden sibling folder first, then swapped in
-        (:class:`lamodel.io.files.ResultFolder`): a reader sees the complete old folder or
+        (:class:`lamodel.output.folder.ResultFolder`): a reader sees the complete old folder or
         the complete new one, also if the process is killed; on any failure the old folder
         is untouched. A folder holding files lamodel did not write is refused (InputError),
         never emptied. Returns the folder path.

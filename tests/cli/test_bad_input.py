@@ -27,7 +27,7 @@ import pytest
 
 import lamodel.search.driver as driver_mod
 import lamodel.search.ipopt as ipopt_mod
-import lamodel.io.files as files_mod
+import lamodel.output.folder as files_mod
 import lamodel.output.results as results_mod
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.io.jsonspec import structure_from_json

@@ -90,7 +90,7 @@ def announced(name, real):
 for name in ("rename", "replace", "link", "unlink", "rmdir", "mkdir", "fsync"):
     setattr(os, name, announced(name, getattr(os, name)))
 sys.path.insert(0, os.environ["LAMODEL_ROOT"])
-import lamodel.io.files as files
+import lamodel.output.folder as files
 if os.environ.get("FALLBACK"):
     import errno
     def no_exchange(a, b):
@@ -236,7 +236,7 @@ def test_kill_9_at_every_step_leaves_the_old_or_the_new_set(kill_setup):
 def test_kill_9_without_an_atomic_exchange_loses_nothing(kill_setup):
     """Where two folders cannot be exchanged in one step, the old folder is renamed aside
     first: a kill right then leaves it aside, and the next run for the folder puts it back."""
-    from lamodel.io.files import ResultFolder
+    from lamodel.output.folder import ResultFolder
     from lamodel.output.results import foreign_files
     setup, root = kill_setup, kill_setup["root"]
     # from the flush of the staged folder (the last step on a hidden folder's path before
