@@ -6,7 +6,7 @@ DEBS   := coinor-libipopt-dev liblapack-dev libblas-dev libmumps-seq-dev pkg-con
 STAMP  := $(VENV)/.installed
 DEMO   := $(firstword $(wildcard instances/portal.dat) instances/wall33.dat)
 
-.PHONY: setup demo test debs clean
+.PHONY: setup demo test test-fast debs clean
 
 setup: debs $(STAMP)
 
@@ -30,6 +30,10 @@ demo: setup
 
 test: setup
 	$(PY) -m pytest -q
+
+# everything but the tests marked slow (processes, clusters, long solves): under a minute
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
 
 clean:
 	rm -rf $(VENV) results *.egg-info

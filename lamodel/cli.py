@@ -171,11 +171,12 @@ COMMANDS = {
 def _parser(prog="lamodel", command=None) -> argparse.ArgumentParser:
     kw = dict(epilog=EXIT_HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
     top = "Limit analysis of dry masonry block assemblies with Coulomb friction."
-    p = _Parser(prog=prog, description=COMMANDS[command][0].capitalize() + "." if command else top, **kw)
+    sentence = lambda text: text[0].upper() + text[1:] + "."  # noqa: E731
+    p = _Parser(prog=prog, description=sentence(COMMANDS[command][0]) if command else top, **kw)
     sub = None if command else p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, (text, arguments, _) in COMMANDS.items():  # one command under its own name: the scripts/ shims
         if command in (None, name):
-            sp = p if command else sub.add_parser(name, help=text, description=text.capitalize() + ".", **kw)
+            sp = p if command else sub.add_parser(name, help=text, description=sentence(text), **kw)
             arguments(sp)
             sp.add_argument("--debug", action="store_true", help="show tracebacks")
     return p

@@ -215,6 +215,8 @@ def read_study(path) -> Study:
         spec = json.loads(p.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError(f"{path}: not a JSON study spec ({exc})") from None
+    except RecursionError:
+        raise InputError(f"{path}: JSON nested too deeply to read; expected a JSON study spec") from None
     if not isinstance(spec, dict) or "structure" not in spec:
         raise InputError(f"{path}: 'structure' is missing; expected the path of a .dat or .json structure")
     where = Path(spec["structure"])

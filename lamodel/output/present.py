@@ -154,6 +154,7 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
     if options.scheduler:
         from ..search.executor import check_scheduler
         check_scheduler(options.scheduler)  # fail at once, not after the first certificate
+    _check_resolution(structure)
     if method != "lamodel" and (structure.cases or structure.rolling is not None):
         raise InputError(f"method {method}: a method other than lamodel takes one live load; expected no load "
                          "cases or rolling load")
@@ -207,6 +208,20 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
     write_extras(outside, outcome, results, words, dead_u, study, source, command, painter)
     shown = {k: out / Path(p).name for k, p in inside.items()} | outside
     return Analysis(structure, outcome, results, words, out, shown, study, methods)
+
+
+def _check_resolution(structure):
+    """Refuse a structure with blocks too light beside the others for double precision
+    (:func:`lamodel.search.certify.unresolved_blocks`): no certificate could hold them."""
+    from ..search.certify import LOAD_RESOLUTION, unresolved_blocks
+    small = unresolved_blocks(structure)
+    if small:
+        shown = ", ".join(f"'{b}'" for b in small[:5]) + (f" and {len(small) - 5} more" if len(small) > 5 else "")
+        raise InputError(f"{structure.name}: block{'s' if len(small) > 1 else ''} {shown} carr"
+                         f"{'y' if len(small) > 1 else 'ies'} loads below {LOAD_RESOLUTION:g} times the largest "
+                         "block's, beyond what double precision can resolve: no collapse state can be certified for "
+                         "them; expected blocks whose weights differ by less than that (or the light blocks analysed "
+                         "on their own)")
 
 
 def _study_progress(echo):

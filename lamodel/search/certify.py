@@ -26,6 +26,10 @@ from .state import CollapseState
 ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
 #: A certified state must satisfy every condition to this relative accuracy.
 RESIDUAL_TOLERANCE = 1e-7
+#: A block whose loads are below this fraction of the largest block load cannot be held
+#: to RESIDUAL_TOLERANCE of its own loads by LPs in double precision (measured: a load
+#: ratio of 1e-8 certifies the closed form, 1e-10 certifies nothing).
+LOAD_RESOLUTION = 1e-9
 
 
 def force_scale(lps: LimitLPs) -> float:
@@ -43,6 +47,18 @@ def block_sizes(structure) -> np.ndarray:
         reach = np.hypot(*(structure.centre[on] - structure.centroid[idx[on]]).T) + structure.d[on]
         np.maximum.at(size, idx[on], reach)
     return np.where(size > 0, size, structure.size())
+
+
+def unresolved_blocks(structure) -> list:
+    """The blocks whose loads (dead or live, moments by the block's own size) are below
+    :data:`LOAD_RESOLUTION` times the largest block load: no state can be certified for
+    them in double precision. Blocks without any load are not counted (their equilibrium
+    is measured against the contact forces on them)."""
+    L = block_sizes(structure)
+    own = np.maximum.reduce([np.abs(structure.dead).max(axis=1), np.abs(structure.live).max(axis=1),
+                             np.abs(structure.dead_m) / L, np.abs(structure.live_m) / L])
+    top = own.max() if own.size else 0.0
+    return [b for b, w in zip(structure.blocks, own) if 0 < w < LOAD_RESOLUTION * top]
 
 
 def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
