@@ -11,7 +11,7 @@ import argparse
 import sys
 
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
-                      exit_status, run_reporting, unwatch_signals, watch_signals)
+                      exit_status, interrupted, run_reporting, unwatch_signals, watch_signals)
 from .arguments import SEED, numbers, seconds, tolerance, whole
 
 
@@ -186,9 +186,16 @@ def command(name: str | None, argv=None, prog: str = "lamodel") -> int:
     """Run one command (``name``) or the whole ``lamodel`` command line (``name=None``);
     returns the exit status. SIGINT, SIGTERM and SIGHUP end it with 128 + the signal
     (:mod:`lamodel.process`)."""
+    from .search.options import stop_signal
     old = watch_signals()
     try:
-        return run_reporting(lambda: _command(name, list(sys.argv[1:] if argv is None else argv), prog), prog)
+        return _command(name, list(sys.argv[1:] if argv is None else argv), prog)
+    except KeyboardInterrupt:  # e.g. while the parser imports the search's choices
+        return interrupted(prog)
+    except Exception:  # outside a command (the parser's imports): a bug, unless a signal broke an import
+        if stop_signal() is None:
+            raise
+        return interrupted(prog)
     finally:
         unwatch_signals(old)
 

@@ -421,6 +421,9 @@ def run_study_into(study: Study, out=None, workers: int | None = None, scheduler
     if max_variants is not None and n > max_variants:
         raise InputError(f"study {study.name}: the spec asks for {n} variants, more than {max_variants}; "
                          f"expected --max-variants {n} (or a smaller spec) to run them")
+    if scheduler is not None:
+        from .search.executor import check_scheduler
+        check_scheduler(scheduler)  # before the folder is made
     if echo is not None:
         echo(f"study {study.name}: {n} variants of '{study.structure.name}'")
     try:

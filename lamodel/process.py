@@ -127,6 +127,12 @@ def exit_now(status: int):
         os._exit(status)
 
 
+def interrupted(prog: str) -> int:
+    """Say that a stop signal ended the run; its exit status (:func:`exit_status`)."""
+    print(f"{prog}: interrupted", file=sys.stderr)
+    return exit_status()
+
+
 def run_reporting(work, prog: str, debug: bool = False) -> int:
     """``work()``'s exit status, every failure turned into one line on stderr: bad input
     (:class:`lamodel.errors.InputError`) ``<prog>: error: ...``, status 2; results that
@@ -137,12 +143,10 @@ def run_reporting(work, prog: str, debug: bool = False) -> int:
     try:
         return work()
     except KeyboardInterrupt:
-        print(f"{prog}: interrupted", file=sys.stderr)
-        return exit_status()
+        return interrupted(prog)
     except Exception as exc:
         if stop_signal() is not None:  # an import that a signal broke (see watch_signals)
-            print(f"{prog}: interrupted", file=sys.stderr)
-            return exit_status()
+            return interrupted(prog)
         if debug:
             import traceback
             traceback.print_exc()

@@ -84,6 +84,7 @@ def test_a_dead_point_load_off_the_centroid_adds_its_moment():
     ({"block": "b1", "at": [0.5, 0.5], "force": [0, -1], "kind": "dead", "case": "x"}, "without a case"),
     ({"block": "b1", "force": [1, 0]}, "has no 'at'"),
 ])
+@pytest.mark.slow
 def test_bad_point_loads_are_one_line_exit_2(load, message, tmp_path):
     path = tmp_path / "bad.json"
     path.write_text(json.dumps(block_spec(1.0, 1.0, [load])))
@@ -114,6 +115,7 @@ class _Collect(HTMLParser):
         self.text.append(data)
 
 
+@pytest.mark.slow
 def test_load_cases_give_one_alpha_each_and_the_governing_one(tmp_path):
     path = tmp_path / "cases.json"
     path.write_text(json.dumps(two_block_cases()))
@@ -149,12 +151,14 @@ def test_load_cases_give_one_alpha_each_and_the_governing_one(tmp_path):
     assert "http" not in text.split("<svg", 1)[0]  # nothing fetched from elsewhere
 
 
+@pytest.mark.slow
 def test_report_and_animation_need_their_suffix(tmp_path):
     r = lamodel("solve", INSTANCES / "wall33.dat", "--starts", "0", "--report", tmp_path / "r.txt")
     assert r.returncode == 2 and "expected a file name ending in .html" in r.stderr
 
 
 # ------------------------------------------------------------------ rolling load
+@pytest.mark.slow
 def test_rolling_load_worst_position_equals_a_separate_solve(tmp_path):
     from lamodel.loads import RollingLoad, rolling_structure, top_positions
     from lamodel.studies import governing, rolling_study
@@ -177,6 +181,7 @@ def test_rolling_load_worst_position_equals_a_separate_solve(tmp_path):
     assert -two.live[:, 1].sum() == pytest.approx(2.0)
 
 
+@pytest.mark.slow
 def test_rolling_load_from_the_command_line(tmp_path):
     out = tmp_path / "arch"
     r = lamodel("solve", INSTANCES / "arch.json", "--starts", "0", "--rolling=0,-1",
@@ -246,6 +251,7 @@ def test_arch_words_use_intrados_and_extrados():
 
 
 # ------------------------------------------------------------------ dead-load instability, GIF
+@pytest.mark.slow
 def test_unstable_under_dead_load_names_the_blocks_that_move(tmp_path):
     spec = {"name": "overhang", "mu": 0.6, "live_load": [1.0, 0.0], "blocks": [
         {"id": "ground", "vertices": rect(-2, -1, 4, 0), "support": True},

@@ -33,6 +33,7 @@ def _result(proc):
 
 
 # ------------------------------------------------------------------------- tie force
+@pytest.mark.slow
 def test_tie_force_example_meets_its_target(tmp_path):
     target = 0.645
     proc = run_example("tie_force.py", "--target", target, "--checks", 1, "--csv", tmp_path / "tie.csv")
@@ -55,6 +56,7 @@ def test_tie_force_example_meets_its_target(tmp_path):
     assert alpha <= ipopt + 1e-9
 
 
+@pytest.mark.slow
 def test_tie_force_example_says_when_the_target_is_out_of_reach():
     """A target of 0.70: Ipopt finds T = 1.5 and a collapse state at 0.70, but with that
     tie a half block at the right end (b28 below b33, or b17: equal multipliers) slides
@@ -72,6 +74,7 @@ def test_tie_force_example_says_when_the_target_is_out_of_reach():
 
 
 # ------------------------------------------------------------------------- friction
+@pytest.mark.slow
 def test_friction_study_example(tmp_path):
     proc = run_example("friction_study.py", "--mus", "0.4,0.65,0.9", "--out", tmp_path / "a.png")
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -113,6 +116,7 @@ def test_friction_study_rejects_bad_mus(tmp_path):
 
 
 # ------------------------------------------------------------------------- Table 1
+@pytest.mark.slow
 def test_table1_script(tmp_path):
     out = tmp_path / "sub" / "table1.csv"
     proc = run_script("table1.py", "--starts", 0, "--out", out)

@@ -59,6 +59,7 @@ def test_a_small_block_on_a_big_one_certifies_the_closed_form_or_is_refused(tmp_
         assert res.returncode == 0, res.stderr
 
 
+@pytest.mark.slow
 def test_the_tiny_block_on_a_huge_one_gives_0_25_or_a_refusal_never_0_6(tmp_path):
     spec = tmp_path / "s.json"
     spec.write_text(json.dumps(issue_geometry()))
@@ -92,6 +93,7 @@ def test_a_state_that_leaves_a_light_block_out_of_equilibrium_is_no_collapse_sta
     assert res["block_equilibrium"] > 0.1  # against the small block's own load it is 58 %
 
 
+@pytest.mark.slow
 def test_a_block_smaller_than_the_tolerance_names_the_relative_tolerance(tmp_path):
     spec = tmp_path / "s.json"
     spec.write_text(json.dumps(small_on_big(1e24)))
@@ -100,6 +102,7 @@ def test_a_block_smaller_than_the_tolerance_names_the_relative_tolerance(tmp_pat
     assert "block 'small'" in res.stderr and "'tolerance' 1e-09 times the model's size" in res.stderr, res.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", ["-1", str(2**70), "1.5", "x"])
 def test_a_seed_out_of_range_is_refused_before_solving(tmp_path, seed):
     res = lamodel("solve", INSTANCES / "wall33.dat", "--seed", seed, "--out", tmp_path / "o")
@@ -108,6 +111,7 @@ def test_a_seed_out_of_range_is_refused_before_solving(tmp_path, seed):
     assert res.stderr.count("\n") == 1 and not (tmp_path / "o").exists()
 
 
+@pytest.mark.slow
 def test_the_largest_seed_is_written(tmp_path):
     from lamodel.search.options import SolveOptions
     with pytest.raises(ValueError, match="seed"):
@@ -118,6 +122,7 @@ def test_the_largest_seed_is_written(tmp_path):
     assert pd.read_csv(tmp_path / "o" / "summary.csv").seed[0] == 2**63 - 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["solve", "study"])
 def test_json_nested_ten_thousand_deep_is_bad_input(tmp_path, command):
     deep = tmp_path / "deep.json"
@@ -126,6 +131,7 @@ def test_json_nested_ten_thousand_deep_is_bad_input(tmp_path, command):
     assert res.returncode == 2 and "nested too deeply" in res.stderr and "Traceback" not in res.stderr, res.stderr
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["../../../../x", "/tmp/elsewhere", "a/../../b"])
 def test_a_study_name_never_leaves_results(tmp_path, name):
     (tmp_path / "work").mkdir()
@@ -138,6 +144,7 @@ def test_a_study_name_never_leaves_results(tmp_path, name):
     assert len(written) == 1 and written[0].parent.parent == tmp_path / "work" / "results", written
 
 
+@pytest.mark.slow
 def test_dat_vertices_of_an_unknown_block_are_refused(tmp_path):
     text = (INSTANCES / "wall33.dat").read_text()
     assert "param: VERTICES" in text
@@ -148,6 +155,7 @@ def test_dat_vertices_of_an_unknown_block_are_refused(tmp_path):
     assert res.returncode == 2 and "'nowhere'" in res.stderr and "VERTICES" in res.stderr, res.stderr
 
 
+@pytest.mark.slow
 def test_compare_refuses_a_device_and_an_oversized_table_before_reading(tmp_path, monkeypatch):
     res = lamodel("solve", INSTANCES / "wall33.dat", "--out", tmp_path / "a", "--no-plot", "--quiet", "--starts", "0")
     assert res.returncode == 0, res.stderr
