@@ -68,9 +68,14 @@ VARIANT_COLUMNS = ("alpha_c", "alpha_associative", "certified", "n_sliding", "n_
 
 def _variant_study(key, labels, variants, options, progress):
     """Solve every variant; a table (one row each, the least certified alpha marked
-    ``governing``) and the outcomes by label."""
+    ``governing``) and the outcomes by label. A stop signal (Ctrl-C, SIGTERM, SIGHUP)
+    ends the study: the variants after the one it stopped have status ``not run``."""
     rows, outcomes = [], {}
     for label, structure in zip(labels, variants):
+        if rows and rows[-1]["status"] == "interrupted":
+            rows.append({key: label, "alpha_c": np.nan, "alpha_associative": np.nan, "certified": False,
+                         "n_sliding": 0, "n_hinging": 0, "n_open": 0, "seconds": 0.0, "status": "not run"})
+            continue
         outcome = solve(structure, options or SolveOptions())
         outcomes[label] = outcome
         row = {key: label, **outcome_row(outcome)}
@@ -126,7 +131,7 @@ def governing_study(structure: Structure, options: SolveOptions | None = None, p
     or "position"), a ``title`` and the ``table``; the governing outcome is the least
     certified one (the first when none is certified); the summary columns name it
     (``case`` or ``position``) and say whether it governs. ``progress(row)`` after each
-    solve."""
+    solve; a stop signal ends it (``study["interrupted"]``, the rest ``not run``)."""
     from dataclasses import replace
     quiet = replace(options or SolveOptions(), progress=False)
     if structure.cases:
@@ -137,7 +142,8 @@ def governing_study(structure: Structure, options: SolveOptions | None = None, p
         key, title = "position", f"Rolling load ({len(df)} positions)"
     label = governing(df, key)
     chosen = label if label is not None else next(iter(outcomes))
-    return {"key": key, "title": title, "table": df}, outcomes[chosen], {key: chosen, "governing": label is not None}
+    study = {"key": key, "title": title, "table": df, "interrupted": bool((df["status"] == "interrupted").any())}
+    return study, outcomes[chosen], {key: chosen, "governing": label is not None}
 
 
 # ------------------------------------------------------------------------- Table 1

@@ -136,7 +136,8 @@ def test_load_cases_give_one_alpha_each_and_the_governing_one(tmp_path):
     # the reported state's largest residual and which condition it is
     assert 0.0 <= summary["residual"][0] <= 1e-7
     assert summary["residual_condition"][0] in ("equilibrium", "yield", "compatibility", "normalisation",
-                                                "nonnegative_flow", "complementarity", "virtual_work")
+                                                "nonnegative_flow", "complementarity", "virtual_work",
+                                                "block_equilibrium", "contact_yield", "contact_complementarity")
     assert check_folder(out) == pytest.approx(0.625)   # with the moments of blocks.csv
     assert "wind_low" in r.stdout and "hinge at the right end of joint ground|b1" in r.stdout
 
@@ -287,3 +288,23 @@ def test_picture_draws_point_loads_where_they_act():
     assert ax.get_xlabel().startswith("x [m]")
     assert any("[kN]" in t.get_text() for t in ax.get_legend().get_texts())
     plt.close(fig)
+
+
+def test_a_signal_during_one_load_case_ends_the_cases(monkeypatch):
+    """A stop signal that ends one case's search (its status ``interrupted``) ends the
+    study of the cases: the rest are marked ``not run``, and the analysis says so."""
+    import lamodel.studies as studies
+    real, calls = studies.solve, []
+
+    def stopped_first(structure, options):
+        outcome = real(structure, options)
+        calls.append(structure.name)
+        if len(calls) == 1:
+            outcome.status = "interrupted"
+        return outcome
+    monkeypatch.setattr(studies, "solve", stopped_first)
+    s = structure_from_json(two_block_cases())
+    study, outcome, extra = studies.governing_study(s, SolveOptions(starts=0))
+    assert len(calls) == 1 and study["interrupted"]
+    assert study["table"]["status"].tolist() == ["interrupted", "not run"]
+    assert extra["case"] == "wind_top"

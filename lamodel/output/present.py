@@ -51,7 +51,7 @@ class Analysis:
     @property
     def interrupted(self) -> bool:
         """True when a signal stopped the search (the best certified state so far is written)."""
-        return self.outcome.status == "interrupted"
+        return self.outcome.status == "interrupted" or bool(self.study and self.study.get("interrupted"))
 
     def line(self) -> str:
         """The one-line result."""
