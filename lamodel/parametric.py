@@ -303,22 +303,25 @@ def run_study(study: Study, workers: int | None = None, scheduler: str | None = 
     own = executor is None
     clear_stop_signal()
     old = catch_sigint(interrupt)
-    interrupted = False
+    results = None
     try:
         ex = executor or Executor(workers=workers, scheduler=scheduler, preload=("lamodel.search.driver",))
         try:
-            ex.map(solve_variant, variants, shared=study, seed=study.seed, progress=done)
+            results = ex.map(solve_variant, variants, shared=study, seed=study.seed, progress=done)
         finally:
             if own:
                 ex.close()
     except KeyboardInterrupt:
-        interrupted = True
+        pass
     finally:
         restore_sigint(old)
         bar.close()
-    df = _table([rows.get(i) or {**v, "alpha": np.nan, "certified": False, "status": "not run"}
-                 for i, v in enumerate(variants)])
-    df.attrs["interrupted"] = interrupted
+    if results is not None:  # every variant ran (on Dask, attempts are known only now)
+        df = _table([_row(v, r) for v, r in zip(variants, results)])
+    else:
+        df = _table([rows.get(i) or {**v, "alpha": np.nan, "certified": False, "status": "not run"}
+                     for i, v in enumerate(variants)])
+    df.attrs["interrupted"] = results is None
     return df
 
 

@@ -147,7 +147,9 @@ def catch_sigint(on_sigint):
     that Ctrl-C at the terminal leaves them running, ``nohup`` ignores SIGHUP, and Python
     itself honours both. SIGTERM and SIGHUP are taken over only from their default action
     or from a handler marked ``stops_lamodel`` (the command line's): a program that calls
-    lamodel with its own handler keeps it.
+    lamodel with its own handler keeps it, and one whose SIGTERM or SIGHUP had its default
+    action gets it back when the work is done (:func:`restore_sigint` delivers it again:
+    the process ends as it would have, its workers already stopped).
     """
     if threading.current_thread() is not threading.main_thread():
         return None
@@ -165,10 +167,17 @@ def catch_sigint(on_sigint):
                                                                                          False):
             continue
         old[sig] = signal.signal(sig, handler)
-    return old or None
+    return (old, len(_received)) if old else None
 
 
-def restore_sigint(old):
-    """Put back the handlers :func:`catch_sigint` replaced."""
-    for sig, handler in (old or {}).items():
+def restore_sigint(caught):
+    """Put back the handlers :func:`catch_sigint` replaced; a SIGTERM or SIGHUP that
+    arrived meanwhile, where its action was the default one, is delivered again."""
+    if caught is None:
+        return
+    old, mark = caught
+    for sig, handler in old.items():
         signal.signal(sig, handler)
+    for sig in dict.fromkeys(_received[mark:]):
+        if sig != signal.SIGINT and old.get(sig) in (signal.SIG_DFL, None) and sig in old:
+            signal.raise_signal(sig)

@@ -71,6 +71,19 @@ def test_the_tiny_block_on_a_huge_one_gives_0_25_or_a_refusal_never_0_6(tmp_path
         assert res.returncode == 2 and "block 'small'" in res.stderr and "double precision" in res.stderr, res.stderr
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("tolerance", [0, 1e-15, 1e-26])
+def test_a_user_tolerance_does_not_let_a_light_block_certify_a_wrong_alpha(tmp_path, tolerance):
+    spec = tmp_path / "s.json"
+    spec.write_text(json.dumps(dict(small_on_big(1e6), tolerance=tolerance)))  # a 1e-3 block on a 1e3 one
+    res = lamodel("solve", spec, "--out", tmp_path / "o", "--no-plot", "--quiet")
+    assert res.returncode in (0, 2), res.stderr
+    if res.returncode == 0:
+        assert "alpha = 0.250000" in res.stdout
+    else:
+        assert "block 'small'" in res.stderr and "double precision" in res.stderr, res.stderr
+
+
 def test_a_state_that_leaves_a_light_block_out_of_equilibrium_is_no_collapse_state():
     """The residual test holds each block to its own loads: the statics of the whole
     structure with the small block carrying 42 % of its live load fails, however light."""

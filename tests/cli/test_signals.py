@@ -209,3 +209,24 @@ def test_a_study_beyond_the_limit_is_refused_before_it_starts(tmp_path):
     p = start("study", spec, "--out", tmp_path / "s", "--max-variants", 10**13)
     _, stderr = p.communicate(timeout=120)
     assert p.returncode == 2 and "the range has" in stderr, stderr
+
+
+def test_sigterm_during_a_library_solve_still_ends_the_program(tmp_path, wall):
+    """In a Python program of the user's, SIGTERM stops the solve (its workers end), then
+    ends the program as its default action would: it is never swallowed."""
+    code = ("import sys, lamodel\n"
+            f"s = lamodel.read({str(wall)!r})\n"
+            "print('solving', flush=True)\n"
+            "lamodel.solve(s, lamodel.SolveOptions(starts=2, workers=2, generations=40))\n"
+            "print('the program went on')\n")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=env, preexec_fn=_as_a_terminal_starts_it)
+    assert p.stdout.readline().strip() == "solving"
+    time.sleep(3.0)
+    kids = descendants(p.pid)
+    p.send_signal(signal.SIGTERM)
+    stdout, stderr = p.communicate(timeout=120)
+    assert p.returncode == -signal.SIGTERM, (p.returncode, stderr[-2000:])
+    assert "the program went on" not in stdout
+    no_child_survives(kids)
