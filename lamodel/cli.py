@@ -10,9 +10,9 @@ from __future__ import annotations
 import argparse
 import sys
 
+from .arguments import SEED, numbers, seconds, tolerance, whole
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
                       exit_status, interrupted, run_reporting, unwatch_signals, watch_signals)
-from .arguments import SEED, numbers, seconds, tolerance, whole
 
 
 class _Usage(Exception):

@@ -150,7 +150,9 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
     from .report import outcome_results
 
-    structure = with_rolling(_read(source, warn), *moving, source=str(source))
+    structure = _read(source, warn)
+    source = str(source) if isinstance(source, (str, os.PathLike)) else structure.name
+    structure = with_rolling(structure, *moving, source=source)
     if options.scheduler:
         from ..search.executor import check_scheduler
         check_scheduler(options.scheduler)  # fail at once, not after the first certificate
