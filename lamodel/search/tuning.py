@@ -119,6 +119,10 @@ CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
 #: orders above LP_TOLERANCE, so that states recomputed from an exact basis pass; a bound
 #: on what the flows dropped by NEAR_FLOW may cost.
 RESIDUAL_TOLERANCE = 1e-7
+#: A block whose loads are below this fraction of the largest block load cannot be held
+#: to RESIDUAL_TOLERANCE of its own loads by LPs in double precision (measured: a load
+#: ratio of 1e-8 certifies the closed form, 1e-10 certifies nothing).
+LOAD_RESOLUTION = 1e-9
 
 # ================================================================= the GA and the driver
 #: GA genes: log-perturbations of the cohesions, within +-Z_MAX; the initial population's
