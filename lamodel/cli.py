@@ -109,6 +109,8 @@ def _solve_arguments(p):
     p.add_argument("--no-plot", action="store_true", help="draw no picture")
     p.add_argument("--quiet", action="store_true",
                    help="print only the one-line result (warnings and errors still go to stderr)")
+    p.add_argument("--prove", type=_positive_float, metavar="SECONDS", help="seconds for the proven lower bound "
+                   "alpha_lower (default: a quarter of the search's time, at least 2 s)")
     _solve_study_arguments(p)
 
 
@@ -198,6 +200,8 @@ def _solve_with(args, prog, painter) -> int:
                 study, outcome, extra = _run_study(structure, options, args)
             else:
                 outcome, extra = solve(structure, options), {}
+                from .output.report import lower_bound_columns
+                extra = lower_bound_columns(outcome, args.prove)
             from .output.report import outcome_results
             results = outcome_results(outcome, dict(extra, method="lamodel"))
         dead_u = _explain_unstable(outcome)
@@ -374,10 +378,10 @@ def _animate(outcome, results, path, dead_u):
 def _words(outcome, results, dead_u) -> list:
     """The mechanism in words (:mod:`lamodel.output.words`)."""
     from .output.modes import modes_from_mechanism
-    from .output.words import describe
+    from .output.words import bound_words, describe
     s = outcome.structure
     if outcome.best is not None:
-        return describe(s, outcome.best.u, results.modes(), outcome.best.alpha)
+        return describe(s, outcome.best.u, results.modes(), outcome.best.alpha) + bound_words(results.summary)
     if dead_u is not None:
         return ["Under dead load alone (no live load):"] + describe(s, dead_u, modes_from_mechanism(s, dead_u))[1:]
     return [f"No mechanism: {outcome.message}."]
