@@ -81,7 +81,7 @@ class Progress:
 class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
-    def __init__(self, structure, upper: float, deadline: float, alpha_split=8, tol=None):
+    def __init__(self, structure, upper: float, deadline: float, alpha_split=8, tol=None, max_nodes=None):
         self.s = structure
         self.U = float(upper)
         self.deadline = deadline
@@ -94,6 +94,7 @@ class BranchAndBound:
         self.alpha_split = alpha_split   # alpha-split while b - a > (U - a_root) / alpha_split
         self.progress = Progress()
         self.root_bound = None
+        self.max_nodes = max_nodes  # a count, not seconds: the same answer on any machine
 
     # ------------------------------------------------------------------ time
     def _check_time(self):
@@ -219,7 +220,7 @@ class BranchAndBound:
             heap.append((root.a, next(counter), root))
             while heap:
                 L = min(self.U, heap[0][0])
-                if self.U - L <= self.tol:
+                if self.U - L <= self.tol or (self.max_nodes is not None and self.progress.nodes >= self.max_nodes):
                     break
                 _, _, node = heapq.heappop(heap)
                 in_hand = node.a  # its region is covered by nothing else until its children are in
