@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The proven lower bound alpha_lower against the certified alpha on the shipped instances.
 
-    python benchmarks/lower_bound.py                     # instances/*.dat, default budget
-    python benchmarks/lower_bound.py --prove 600 wall33  # a longer budget on one instance
+    python benchmarks/lower_bound.py                          # instances/*.dat and *.json
+    python benchmarks/lower_bound.py --prove 600 wall33.dat   # a longer budget on one file
 
 For each instance: the search (``lamodel.search.driver.solve``, default options), then
 ``lamodel.bound.lower_bound`` with the certified alpha as the top of the range and the
@@ -21,18 +21,18 @@ sys.path.insert(0, str(ROOT))
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("names", nargs="*", help="instance names in instances/ (default: every .dat)")
+    p.add_argument("names", nargs="*", help="file names in instances/ (default: every .dat and .json)")
     p.add_argument("--prove", type=float, default=None, help="seconds for the bound (default: solve's default)")
     args = p.parse_args(argv)
     from lamodel.bound.lower import default_budget, lower_bound
     from lamodel.io import read
     from lamodel.search.driver import SolveOptions, solve
-    names = args.names or sorted(f.stem for f in (ROOT / "instances").glob("*.dat"))
+    names = args.names or sorted(f.name for f in (ROOT / "instances").iterdir() if f.suffix in (".dat", ".json"))
     print("| instance | blocks | contacts | alpha | alpha_lower | alpha_lower / alpha | proven | search s | bound s "
           "| rounds | nodes | LPs |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
-        s = read(ROOT / "instances" / f"{name}.dat")
+        s = read(ROOT / "instances" / name)
         t = time.perf_counter()
         o = solve(s, SolveOptions(progress=False))
         search = time.perf_counter() - t

@@ -50,7 +50,12 @@ class ExactData:
         self.cols = [[(int(i), _q(v)) for i, v in zip(A.indices[A.indptr[j]:A.indptr[j + 1]],
                                                        A.data[A.indptr[j]:A.indptr[j + 1]])]
                      for j in range(A.shape[1])]
+        # the same entries as dyadic integers (value = int * 2**exponent) for fast dot products
+        Ai, self._eA = _dyadic(A.data)
+        self._icols = [(A.indices[A.indptr[j]:A.indptr[j + 1]].tolist(), Ai[A.indptr[j]:A.indptr[j + 1]])
+                       for j in range(A.shape[1])]
         f0, fb = load_vectors(s)
+        self._f0i, self._fbi = _dyadic(f0), _dyadic(fb)
         self.f0 = [_q(v) for v in f0]
         self.fbar = [_q(v) for v in fb]
         self.mu = [_q(v) for v in s.mu]
@@ -59,10 +64,17 @@ class ExactData:
         self.r0 = None      # its reduced costs of -N (each < 0)
 
     # ------------------------------------------------------------------ dual side
-    def _reduced(self, y, k):
-        """Reduced costs of N (the yield multipliers chosen optimally for y) and y^T fbar."""
+    def _products(self, y):
+        """(A^T y, y^T f0, y^T fbar), exact, for floats y: integer sums of dyadic numbers."""
+        Y, ey = _dyadic(y)
+        scale = _pow2(self._eA + ey)
+        t = [scale * sum(a * Y[i] for i, a in zip(rows, vals)) for rows, vals in self._icols]
+        return t, _dot(Y, ey, self._f0i), _dot(Y, ey, self._fbi)
+
+    def _reduced(self, t, k):
+        """Reduced costs of -N's objective row: the yield multipliers chosen for the shear
+        and moment terms to vanish exactly, ``r_N = c_N + t_N + mu |t_V| + d |t_M|``."""
         nc = self.nc
-        t = [sum((v * y[i] for i, v in col), Fraction(0)) for col in self.cols]
         r = [t[j] + self.mu[j] * abs(t[nc + j]) + self.d[j] * abs(t[2 * nc + j]) for j in range(nc)]
         if k is not None:
             r[k] -= 1
@@ -73,10 +85,10 @@ class ExactData:
         it is exactly negative."""
         if y0 is None:
             return False
-        y0 = [_q(v) for v in y0]
-        r0 = self._reduced(y0, None)
+        products = self._products(np.asarray(y0, float))
+        r0 = self._reduced(products[0], None)
         if all(v < 0 for v in r0):
-            self.y0, self.r0 = y0, r0
+            self.y0, self.r0 = products, r0
             return True
         return False
 
@@ -86,26 +98,27 @@ class ExactData:
 
         ``k=None``: the zero objective; a result > 0 proves the region empty. Returns a
         Fraction, or None when y cannot be made exactly dual feasible."""
-        y = [_q(v) for v in y]
-        r = self._reduced(y, k)
+        t, yf0, yfb = self._products(np.asarray(y, float))
+        r = self._reduced(t, k)
         bad = [j for j in range(self.nc) if r[j] > 0 and not math.isfinite(hi[j])]
         if bad:
             if self.y0 is None:
                 return None
             # reduced costs are convex in y: r(y + s y0) <= r(y) + s r0, exactly
             step = max(r[j] / -self.r0[j] for j in bad)
-            y = [yi + step * zi for yi, zi in zip(y, self.y0)]
-            r = self._reduced(y, k)
+            t0, f0, fb = self.y0
+            t = [ti + step * si for ti, si in zip(t, t0)]
+            yf0, yfb = yf0 + step * f0, yfb + step * fb
+            r = self._reduced(t, k)
             if any(r[j] > 0 and not math.isfinite(hi[j]) for j in range(self.nc)):
                 return None
-        bound = sum((yi * fi for yi, fi in zip(y, self.f0)), Fraction(0))
+        bound = yf0
         for j in range(self.nc):
             if r[j] > 0:
                 bound -= r[j] * _q(hi[j])   # N_j = -hi_j
             elif r[j] < 0:
                 bound -= r[j] * _q(lo[j])   # N_j = -lo_j
-        g = sum((yi * fi for yi, fi in zip(y, self.fbar)), Fraction(0))
-        bound += min(g * _q(a), g * _q(b))
+        bound += min(yfb * _q(a), yfb * _q(b))
         return bound
 
     def empty(self, ray, a, b, lo, hi) -> bool:
@@ -197,6 +210,26 @@ class ExactData:
             if abs(V[k]) > c[k] or self.d[k] * N[k] - M[k] > 0 or self.d[k] * N[k] + M[k] > 0:
                 return False
         return True
+
+
+def _dyadic(values):
+    """Floats as integers times one power of two: (ints, exponent), exactly."""
+    values = np.asarray(values, float)
+    m, e = np.frexp(values)
+    e = e.astype(np.int64) - 53
+    ints = [int(x) for x in np.ldexp(m, 53)]  # exact: 53-bit mantissas
+    low = int(e[values != 0].min()) if np.any(values != 0) else 0
+    return [v << int(x - low) if v else 0 for v, x in zip(ints, e)], low
+
+
+def _pow2(e) -> Fraction:
+    return Fraction(2 ** e) if e >= 0 else Fraction(1, 2 ** -e)
+
+
+def _dot(Y, ey, vec) -> Fraction:
+    """y^T vec exactly, y and vec as dyadic integers."""
+    V, ev = vec
+    return _pow2(ey + ev) * sum(a * b for a, b in zip(Y, V))
 
 
 def _column_order(rows, n):
