@@ -237,6 +237,8 @@ def bound_words(summary) -> list:
     low = float(row["alpha_lower"])
     if not np.isfinite(low):
         return []
+    if low <= 0:
+        return ["No lower bound above 0 was proven in the time given (lamodel solve --prove SECONDS gives more)."]
     if bool(row.get("proven_global", False)):
         return [f"Proven global minimum: collapse cannot occur below {low:.6g} under this load pattern "
                 f"(alpha = {float(row['alpha']):.6g})."]
