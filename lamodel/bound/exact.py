@@ -27,6 +27,15 @@ from ..formulation.matrices import equilibrium_matrix, load_vectors
 from ..structure import Structure
 
 
+def weights(k) -> dict:
+    """An objective on the ``-N``: None (zero), a contact (weight 1) or {contact: weight}."""
+    if k is None:
+        return {}
+    if isinstance(k, dict):
+        return {int(j): float(w) for j, w in k.items()}
+    return {int(k): 1.0}
+
+
 def _q(x) -> Fraction:
     return Fraction(float(x))
 
@@ -76,8 +85,8 @@ class ExactData:
         and moment terms to vanish exactly, ``r_N = c_N + t_N + mu |t_V| + d |t_M|``."""
         nc = self.nc
         r = [t[j] + self.mu[j] * abs(t[nc + j]) + self.d[j] * abs(t[2 * nc + j]) for j in range(nc)]
-        if k is not None:
-            r[k] -= 1
+        for j, w in weights(k).items():
+            r[j] -= _q(w)
         return r
 
     def use_opening_motion(self, y0) -> bool:
@@ -96,7 +105,8 @@ class ExactData:
         """Exact lower bound on ``min -N_k`` over the admissible statics with alpha in
         [a, b] and ``lo <= -N <= hi`` (hi may hold inf), from multipliers y (floats).
 
-        ``k=None``: the zero objective; a result > 0 proves the region empty. Returns a
+        ``k`` a dict {contact: weight}: on the weighted sum of the ``-N``. ``k=None``: the
+        zero objective; a result > 0 proves the region empty. Returns a
         Fraction, or None when y cannot be made exactly dual feasible."""
         t, yf0, yfb = self._products(np.asarray(y, float))
         r = self._reduced(t, k)

@@ -57,7 +57,7 @@ def default_budget(search_seconds: float) -> float:
 
 
 def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
-                alpha_split: int = 8, max_nodes: int | None = None) -> LowerBound:
+                alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none") -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 
     ``alpha_upper``: the best certified alpha (any number works as the top of the searched
@@ -66,14 +66,16 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
     ``alpha_split``: alpha-intervals are halved while wider than 1/alpha_split of the
     range left after the root's rounds, then the normal-force ranges are branched on.
     ``max_nodes``: stop after this many nodes (1: the root's rounds only), whatever the
-    time left: a count gives the same bound on any machine."""
+    time left: a count gives the same bound on any machine. ``pairs``: where the polygon
+    bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all"."""
     from .branch import BranchAndBound
     t0 = time.perf_counter()
     structure.validate()
     if not math.isfinite(alpha_upper) or alpha_upper < 0:
         return LowerBound(math.nan, alpha_upper, False, 0, 0, 0, 0, 0, 0.0, "none")
     deadline = time.monotonic() + float(budget)
-    bb = BranchAndBound(structure, alpha_upper, deadline, alpha_split=alpha_split, max_nodes=max_nodes)
+    bb = BranchAndBound(structure, alpha_upper, deadline, alpha_split=alpha_split, max_nodes=max_nodes,
+                        pairs=pairs)
     L, open_nodes = bb.run(0.0)
     p = bb.progress
     proven = alpha_upper - L <= PROVEN_TOL * max(1.0, alpha_upper)

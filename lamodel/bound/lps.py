@@ -31,6 +31,7 @@ from ..formulation.matrices import equilibrium_matrix, load_vectors
 from ..search.engine import _scaled, _scales, cohesive_matrix, generator_matrix
 from ..search.lp import QuietHighs
 from ..structure import Structure
+from .exact import weights
 
 INF = highspy.kHighsInf
 #: HiGHS's feasibility tolerances on the scaled LPs (their answers are re-checked exactly).
@@ -133,12 +134,13 @@ class BoundLPs:
     def normal_force(self, k, a, b, lo, hi, maximize=False, deadline=None) -> LPAnswer:
         """min (max) ``-N_k`` over S with alpha in [a, b] and lo <= -N <= hi (user units).
 
-        ``k=None``: a feasibility LP (zero objective); when infeasible, ``y`` is HiGHS's
-        Farkas ray in the certificate's convention."""
+        ``k`` a dict {contact: weight}: the weighted sum of the ``-N``. ``k=None``: a
+        feasibility LP (zero objective); when infeasible, ``y`` is HiGHS's Farkas ray.
+        ``x`` of the answer: ``-N`` of every contact at the optimum."""
         nc = self.nc
         cost = np.zeros(4 * nc + 1)
-        if k is not None:
-            cost[4 * k:4 * k + 4] = -1.0 if maximize else 1.0
+        for j, w in weights(k).items():
+            cost[4 * j:4 * j + 4] = -w if maximize else w
         changed = np.flatnonzero(cost != self._stat_cost)
         if changed.size:
             self.stat.changeColsCost(changed.size, changed.astype(np.int32), cost[changed])
@@ -160,10 +162,11 @@ class BoundLPs:
             return LPAnswer(status)
         sol = self.stat.getSolution()
         value = self.stat.getInfo().objective_function_value * self.F
+        n = np.asarray(sol.col_value, float)[:4 * nc].reshape(nc, 4).sum(axis=1) * self.F
         y = -np.asarray(sol.row_dual, float)[:3 * self.nb] * self.y_user
         if maximize:
             value, y = -value, -y
-        return LPAnswer("optimal", value=value, y=y)
+        return LPAnswer("optimal", value=value, y=y, x=n)
 
     # ------------------------------------------------------------------ alpha_coh
     def cohesive(self, c, deadline=None) -> LPAnswer:

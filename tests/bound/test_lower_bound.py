@@ -93,6 +93,17 @@ def test_branching_raises_the_bound_beyond_the_rounds_and_stays_below_the_truth(
     assert lb.root_bound + 0.02 < lb.alpha_lower <= truth + 1e-12
 
 
+def test_polygon_of_two_contacts_raises_the_root_and_stays_below_the_truth():
+    """The lintel of the trilithon slides on both piers: the polygon of their normal forces
+    (their sum carries the lintel) lifts the root's bound above the box corner's."""
+    s = trilithon(0.3)
+    corner = lower_bound(s, 0.3, budget=60.0, max_nodes=1)
+    polygon = lower_bound(s, 0.3, budget=60.0, max_nodes=1, pairs="root")
+    assert corner.alpha_lower + 0.02 < polygon.alpha_lower <= 0.3
+    deeper = lower_bound(s, 0.3, budget=120.0, max_nodes=30, pairs="all")
+    assert polygon.alpha_lower <= deeper.alpha_lower <= 0.3
+
+
 @pytest.mark.parametrize("name", ["arch", "portal", "portal_columns"])
 def test_seed_instances_are_proven_global_minima(name):
     s = read(INSTANCES / f"{name}.dat")
