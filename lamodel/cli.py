@@ -63,6 +63,7 @@ def _solve_arguments(p):
     a("--quiet", action="store_true", help="print only the one-line result (warnings and errors still go to stderr)")
     a("--report", metavar="FILE.html", help="write one self-contained HTML report")
     a("--animate", metavar="FILE.gif", help="write a GIF of the mechanism growing from rest")
+    a("--prove", type=seconds, metavar="SECONDS", help="seconds for the proven lower bound alpha_lower in summary.csv")
     a("--rolling", metavar="FX,FY", type=numbers(2, "two numbers FX,FY"), help="a rolling point load (per axle) "
       "moved across the top; it replaces the file's live loads")
     a("--axles", metavar="D1,D2,...", type=numbers(), help="offsets of the axles from the lead axle (default 0)")
@@ -81,7 +82,7 @@ def _solve(args, prog) -> int:
                 picture=False if args.no_plot else (args.plot or True), report=args.report, animate=args.animate,
                 rolling=args.rolling, axles=args.axles, positions=args.positions, echo=None if args.quiet else _say,
                 warn=lambda message: print(f"{prog}: warning: {message}", file=sys.stderr),
-                command=" ".join([prog.split()[0], *sys.argv[1:]]))
+                command=" ".join([prog.split()[0], *sys.argv[1:]]), prove=args.prove)
     print(a.text(quiet=args.quiet))
     return exit_status() if a.interrupted else EXIT_OK if a.certified else EXIT_NOT_CERTIFIED
 

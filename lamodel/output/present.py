@@ -88,7 +88,7 @@ class Analysis:
 
 def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=None, picture=True,
             report=None, animate=None, rolling=None, axles=None, positions=None, echo=None, warn=None,
-            command: str | None = None) -> Analysis:
+            command: str | None = None, prove: float | None = None) -> Analysis:
     """Read a structure, solve it, write its result folder and its pictures: what
     ``lamodel solve`` does, with the same files and words.
 
@@ -105,6 +105,8 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     a rolling load (:func:`lamodel.loads.with_rolling`). ``echo(line)`` receives the
     progress lines of load cases, rolling positions and methods; ``warn(message)`` the
     input's warnings (default: Python warnings). ``command`` is named in the report.
+    ``prove``: seconds for the proven lower bound ``alpha_lower`` in summary.csv
+    (:func:`lamodel.bound.lower_bound`; default a share of the search's own time).
 
     Every output place is checked before solving (InputError, one line). A signal that
     stops the search (Ctrl-C, SIGTERM, SIGHUP) still writes the best certified state
@@ -121,7 +123,7 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         painter = Painter()
     try:
         return _analyse(source, options, out, method, seed_ga, picture, report, animate,
-                        (rolling, axles, positions), echo, warn, command, painter)
+                        (rolling, axles, positions), echo, warn, command, painter, prove)
     finally:
         if painter is not None:
             painter.close()
@@ -142,7 +144,8 @@ def _read(source, warn):
     return structure
 
 
-def _analyse(source, options, out, method, seed_ga, picture, report, animate, moving, echo, warn, command, painter):
+def _analyse(source, options, out, method, seed_ga, picture, report, animate, moving, echo, warn, command, painter,
+             prove=None):
     from ..io.files import safe_folder_name
     from ..loads import with_rolling
     from ..search.driver import solve
@@ -180,7 +183,9 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
                 from ..studies import governing_study
                 study, outcome, extra = governing_study(structure, options, _study_progress(echo))
             else:
+                from .report import lower_bound_columns
                 outcome = solve(structure, options)
+                extra = lower_bound_columns(outcome, prove)
             results = outcome_results(outcome, dict(extra, method="lamodel"))
         dead_u = explain_unstable(outcome)
         results.summary["message"] = outcome.message  # with the blocks that move under dead load, if unstable

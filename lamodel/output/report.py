@@ -69,3 +69,22 @@ def _residual_columns(best) -> dict:
         return {"residual": np.nan, "residual_condition": ""}
     worst = max(best.residual, key=best.residual.get)
     return {"residual": float(best.residual[worst]) + 0.0, "residual_condition": worst}
+
+
+def lower_bound_columns(outcome: Outcome, prove: float | None = None) -> dict:
+    """summary.csv's columns of the proven lower bound (:func:`lamodel.bound.lower_bound`)
+    after a search: ``alpha_lower`` (no collapse state below it under this load pattern;
+    NaN when nothing was proved), ``proven_global`` (alpha is the global minimum within
+    1e-6 relative), ``alpha_lower_seconds`` and ``alpha_lower_check`` (the exact check of
+    its certificates). The top of the searched range is the certified alpha (else the
+    associative bound). ``prove``: seconds for the bound; default a quarter of the
+    search's time, at least 2 s."""
+    from ..bound.lower import default_budget, lower_bound
+    upper = outcome.best.alpha if outcome.best is not None else outcome.alpha_associative
+    if outcome.status not in ("certified", "not_certified") or not np.isfinite(upper):
+        return {"alpha_lower": np.nan, "proven_global": False, "alpha_lower_seconds": 0.0,
+                "alpha_lower_check": "none"}
+    budget = prove if prove is not None else default_budget(outcome.wall_time_s)
+    lb = lower_bound(outcome.structure, upper, budget=budget)
+    return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": lb.proven_global and outcome.best is not None,
+            "alpha_lower_seconds": lb.time, "alpha_lower_check": lb.exact_check}

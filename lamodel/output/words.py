@@ -227,3 +227,19 @@ def thrust_line(structure: Structure, N, M, rtol: float = 1e-9):
     r = s.centre[k] - centre
     order = np.argsort(-np.arctan2(r[:, 1], r[:, 0]))  # from the left springing over to the right
     return points[order], (np.abs(e) / s.d[k])[order], k[order]
+
+
+def bound_words(summary) -> list:
+    """The proven lower bound in words (summary.csv's alpha_lower, proven_global), or []."""
+    if summary is None or "alpha_lower" not in summary.columns:
+        return []
+    row = summary.iloc[0]
+    low = float(row["alpha_lower"])
+    if not np.isfinite(low):
+        return []
+    if low <= 0:
+        return ["No lower bound above 0 was proven in the time given (lamodel solve --prove SECONDS gives more)."]
+    if bool(row.get("proven_global", False)):
+        return [f"Proven global minimum: collapse cannot occur below {low:.6g} under this load pattern "
+                f"(alpha = {float(row['alpha']):.6g})."]
+    return [f"Collapse cannot occur below {low:.6g} under this load pattern (a proven lower bound)."]
