@@ -3,7 +3,7 @@
 * :meth:`BoundLPs.normal_force` — ``min`` (or ``max``) ``-N_k`` over the statics admissible
   for the real Coulomb law (eq. 1-4) with ``alpha`` in ``[a, b]`` and the normal forces in a
   box ``lo <= -N <= hi``: the Nmin LPs. Friction-cone generator form (four ``lambda >= 0``
-  per contact, :func:`lamodel.search.engine.generator_matrix`), so only the 3 nb
+  per contact, :func:`lamodel.formulation.matrices.generator_matrix`), so only the 3 nb
   equilibrium rows and one row per contact for the box. One HiGHS object, warm-started
   from one LP to the next.
 * :meth:`BoundLPs.cohesive` — ``alpha_coh(c)``: max alpha of the fictitious cohesive system
@@ -14,7 +14,7 @@
   associative flow cone; it corrects a floating-point dual point into an exactly feasible
   one (:func:`lamodel.bound.exact.dual_bound`).
 
-Forces are divided by F and lengths by L (:func:`lamodel.search.engine._scales`); every
+Forces are divided by F and lengths by L (:func:`lamodel.formulation.scaling.scales`); every
 value that leaves this module is in the user's units. Duals follow the sign convention of
 :mod:`.exact`: ``-N_k >= y^T f0 + (c + A^T y + Y^T w)^T s + (y^T fbar) alpha``.
 """
@@ -27,9 +27,10 @@ import highspy
 import numpy as np
 import scipy.sparse as sp
 
-from ..formulation.matrices import equilibrium_matrix, load_vectors
-from ..search.engine import _scaled, _scales, cohesive_matrix, generator_matrix
-from ..search.lp import QuietHighs
+from ..formulation.matrices import cohesive_matrix, equilibrium_matrix, generator_matrix, load_vectors
+from ..formulation.scaling import scaled as _scaled
+from ..formulation.scaling import scales as _scales
+from ..search.highs import QuietHighs
 from ..structure import Structure
 from .exact import weights
 
