@@ -82,7 +82,7 @@ class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
     def __init__(self, structure, upper: float, deadline: float, alpha_split=8, tol=None, max_nodes=None,
-                 pairs="none"):
+                 pairs="none", max_lps=None):
         self.s = structure
         self.U = float(upper)
         self.deadline = deadline
@@ -96,6 +96,8 @@ class BranchAndBound:
         self.progress = Progress()
         self.root_bound = None
         self.max_nodes = max_nodes  # a count, not seconds: the same answer on any machine
+        self.max_lps = max_lps      # likewise
+        self.out_of_budget = False
         # the polygon bound of two contacts (plane.py) after the rounds: "none", "root" or
         # "all" nodes. Measured on 15 random trilithons at 60 nodes: either gained on as many
         # as it lost against "none" ("all" with 1.5-2.5x the LPs), so it is not the default
@@ -103,7 +105,8 @@ class BranchAndBound:
 
     # ------------------------------------------------------------------ time
     def _check_time(self):
-        if time.monotonic() >= self.deadline:
+        if time.monotonic() >= self.deadline or (self.max_lps is not None and self.lps.n_solves >= self.max_lps):
+            self.out_of_budget = True
             raise OutOfTime()
 
     # ------------------------------------------------------------------ one node

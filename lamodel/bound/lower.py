@@ -17,8 +17,12 @@ from ..structure import Structure
 
 #: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
 PROVEN_TOL = 1e-6
-#: the default budget: this fraction of the search's own time, at least FLOOR_SECONDS
-BUDGET_FRACTION, FLOOR_SECONDS = 0.25, 2.0
+#: The default budget is counted in LP solves, so that the same structure gets the same
+#: bound on any machine: this fraction of the search's own LP solves, at least LP_FLOOR
+#: (the proofs of the seed's arch, portal and portal_columns take 99, 78 and 77 LPs;
+#: wall33 and wall55 stay at 0 after 500 LPs and after 330,000). A seconds backstop of
+#: the search's own time, at least FLOOR_SECONDS, guards against pathological LPs only.
+BUDGET_FRACTION, LP_FLOOR, FLOOR_SECONDS = 0.25, 200, 2.0
 
 
 @dataclass
@@ -51,13 +55,15 @@ class LowerBound:
         return self.alpha_upper - self.alpha_lower
 
 
-def default_budget(search_seconds: float) -> float:
-    """Seconds for the bound after a search that took ``search_seconds``."""
-    return max(FLOOR_SECONDS, BUDGET_FRACTION * float(search_seconds))
+def default_budget(search_seconds: float, search_lps: int) -> tuple[float, int]:
+    """(seconds backstop, LP solves) for the bound after a search that took
+    ``search_seconds`` and ``search_lps`` LP solves."""
+    return max(FLOOR_SECONDS, float(search_seconds)), max(LP_FLOOR, int(BUDGET_FRACTION * search_lps))
 
 
 def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
-                alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none") -> LowerBound:
+                alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
+                max_lps: int | None = None) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 
     ``alpha_upper``: the best certified alpha (any number works as the top of the searched
@@ -66,7 +72,8 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
     ``alpha_split``: alpha-intervals are halved while wider than 1/alpha_split of the
     range left after the root's rounds, then the normal-force ranges are branched on.
     ``max_nodes``: stop after this many nodes (1: the root's rounds only), whatever the
-    time left: a count gives the same bound on any machine. ``pairs``: where the polygon
+    time left: a count gives the same bound on any machine; ``max_lps`` likewise stops
+    after this many LP solves (checked before each). ``pairs``: where the polygon
     bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all"."""
     from .branch import BranchAndBound
     t0 = time.perf_counter()
@@ -75,12 +82,12 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
         return LowerBound(math.nan, alpha_upper, False, 0, 0, 0, 0, 0, 0.0, "none")
     deadline = time.monotonic() + float(budget)
     bb = BranchAndBound(structure, alpha_upper, deadline, alpha_split=alpha_split, max_nodes=max_nodes,
-                        pairs=pairs)
+                        pairs=pairs, max_lps=max_lps)
     L, open_nodes = bb.run(0.0)
     p = bb.progress
     proven = alpha_upper - L <= PROVEN_TOL * max(1.0, alpha_upper)
     check = "none" if L <= 0 else ("lowered" if p.checks_failed else "passed")
-    complete = proven or not open_nodes or time.monotonic() < deadline
+    complete = proven or not open_nodes or not bb.out_of_budget
     return LowerBound(alpha_lower=float(L), alpha_upper=float(alpha_upper), proven_global=bool(proven),
                       rounds=p.rounds, intervals=p.alpha_splits + 1, nodes=p.nodes, excluded=p.excluded,
                       lps=p.lps, time=time.perf_counter() - t0, exact_check=check,
