@@ -7,7 +7,7 @@ DEBS_TEST := chromium
 STAMP  := $(VENV)/.installed
 DEMO   := $(firstword $(wildcard instances/portal.dat) instances/wall33.dat)
 
-.PHONY: setup demo test docs debs debs-test clean
+.PHONY: setup demo test test-fast docs debs debs-test clean
 
 setup: debs $(STAMP)
 
@@ -46,6 +46,10 @@ docs: setup $(VENV)/.installed-docs
 $(VENV)/.installed-docs: setup.cfg pyproject.toml
 	$(PY) -m pip install -q -e '.[docs]'
 	@touch $@
+
+# everything but the tests marked slow (processes, clusters, long solves): under a minute
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
 
 clean:
 	rm -rf $(VENV) results *.egg-info docs/_build docs/api/generated

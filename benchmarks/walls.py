@@ -84,7 +84,7 @@ def main(argv=None):
 
     import pandas as pd
 
-    from lamodel.studies import write_csv
+    from lamodel.io.files import write_csv
 
     cases = []
     if not args.no_seed_walls:

@@ -60,7 +60,9 @@ def main(argv=None):
 
     from lamodel.io import read as load_structure
     from lamodel.search.driver import SolveOptions
-    from lamodel.studies import friction_study, plot_friction_study, write_csv
+    from lamodel.io.files import write_csv
+    from lamodel.output.figures import plot_friction_study
+    from lamodel.studies import friction_study
 
     structure = load_structure(args.instance)
     options = SolveOptions(seed=args.seed, starts=args.starts)

@@ -94,7 +94,9 @@ def main(argv=None):
     from lamodel.search.certify import certify
     from lamodel.search.driver import SolveOptions, solve
     from lamodel.search.lp import LimitLPs
-    from lamodel.studies import mode_counts, with_dead_force, write_csv
+    from lamodel.io.files import write_csv
+    from lamodel.output.rows import mode_counts
+    from lamodel.variants import with_dead_force
 
     s = read(args.instance)
     if args.block is None:  # the block of the top course with the largest centroid x

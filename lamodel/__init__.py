@@ -9,7 +9,8 @@ Layers (docs/architecture.md): :mod:`lamodel.io` (files in), :mod:`lamodel.struc
 (the data), :mod:`lamodel.geometry` (contacts from polygons, generators),
 :mod:`lamodel.formulation` (eq. 1-5: matrices and the Pyomo model), :mod:`lamodel.search`
 (LPs, certification, GA, Ipopt, the driver), :mod:`lamodel.output` (results, modes,
-pictures, comparison), :mod:`lamodel.cli`.
+pictures, comparison, and :func:`lamodel.analyse`: what ``lamodel solve`` does, from Python),
+:mod:`lamodel.cli`.
 
 The names below load on first use: ``import lamodel`` does not import Pyomo, so reading
 results or comparing them starts quickly. ``SolverFactory('lamodel_ipopt')`` (Debian's
@@ -33,6 +34,8 @@ _LAZY = {
     "solve": "lamodel.search.driver",
     "SolveOptions": "lamodel.search.options",
     "Results": "lamodel.output.results",
+    "analyse": "lamodel.output.present",
+    "Analysis": "lamodel.output.present",
     "LimitAnalysisBlock": "lamodel.formulation.model",
     "create_model": "lamodel.formulation.model",
     "create_abstract_model": "lamodel.formulation.model",

@@ -11,3 +11,9 @@ class InputError(ValueError):
 
 class SolverError(RuntimeError):
     """A solver could not be run at all (missing library, malformed model)."""
+
+
+class OutputError(OSError):
+    """The results could not be written (a full disk, a folder made read-only during the
+    run); the message names the folder. The command-line tools print it and exit with
+    status 1."""

@@ -179,3 +179,32 @@ def unit_label(structure: Structure, kind: str) -> str:
     """' [m]' for kind 'length' when the input gave units, else ''."""
     u = structure.units.get(kind)
     return f" [{u}]" if u else ""
+
+
+def with_rolling(structure: Structure, force=None, axles=None, positions=None, source: str = "") -> Structure:
+    """The structure with a rolling load of ``force`` (FX, FY per axle) replacing its live
+    loads, or, with ``force=None``, its own rolling load moved by new ``axles`` (offsets
+    from the lead axle) and/or ``positions`` (of the lead axle). Unchanged when nothing is
+    given. ``source`` names the input in errors."""
+    import dataclasses
+    if force is None and not (axles or positions):
+        return structure
+    if force is None and structure.rolling is None:
+        raise InputError("axles and positions move a rolling load; expected a rolling force FX,FY or a "
+                         "'rolling_load' in the JSON")
+    if not structure.polygons:
+        raise InputError(f"{source or structure.name}: no block outlines; expected a JSON geometry (or a .dat with "
+                         "VERTICES) to find the top of the structure for a rolling load")
+    s = dataclasses.replace(structure)
+    if force is not None:
+        if not any(force):
+            raise InputError(f"rolling force {force[0]:g},{force[1]:g}: expected a non-zero force per axle")
+        s.live, s.live_m = structure.live * 0.0, structure.live_m * 0.0
+        s.point_loads = [p for p in structure.point_loads if p.kind == "dead"]
+        s.cases = {}
+        base = RollingLoad(tuple(force))
+    else:
+        base = structure.rolling
+    s.rolling = RollingLoad(base.force, tuple(axles) if axles else base.axles,
+                            tuple(positions) if positions else base.positions)
+    return s

@@ -44,8 +44,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
+from .errors import InputError, OutputError
 from .structure import Structure
+from .variants import with_block_sizes, with_dead_force, with_friction, with_load_angle
 
 #: columns after the parameters, in this order
 RESULT_COLUMNS = ("alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "seconds",
@@ -55,6 +56,10 @@ RUN_COLUMNS = ("seconds", "attempts", "worker", "error")
 SPEC_KEYS = ("name", "structure", "seed", "options", "vary", "random", "description")
 VARY_KEYS = ("mu", "load_angle", "dead_force")
 OPTION_KEYS = ("starts", "time_limit", "pop_size", "generations", "chain", "xi_factor", "solver")
+#: values of one range of a spec beyond which it is refused at once
+MAX_RANGE = 10**6
+#: variants a study may ask for unless its runner allows more (``lamodel study --max-variants``)
+MAX_VARIANTS = 10_000
 
 
 @dataclass(frozen=True)
@@ -68,6 +73,10 @@ class Study:
     dead_block: str | None = None
     random: dict | None = None    # {"count", "mu": {"sd", "per"}, "size": {"sd"}}
     seed: int = 0
+
+    def count(self) -> int:
+        """How many variants the study asks for (without listing them)."""
+        return math.prod(len(values) for _, values in self.grid) * (self.random["count"] if self.random else 1)
 
     def variants(self) -> list[dict]:
         """The parameters of each variant, in table order."""
@@ -94,18 +103,26 @@ def _numbers(value, where) -> list[float]:
             n = value["num"]
             if isinstance(n, bool) or not isinstance(n, int) or n < 1:
                 raise InputError(f"{where}: num is {n!r}; expected a whole number >= 1")
+            _check_count(n, where)
             values = np.linspace(a, b, n) if n > 1 else np.array([a])
         else:
             h = _number(value["step"], where)
             if h == 0 or (b - a) / h < 0:
                 raise InputError(f"{where}: step {h:g} does not lead from {a:g} to {b:g}")
-            values = a + h * np.arange(math.floor((b - a) / h + 1e-9) + 1)
+            n = math.floor((b - a) / h + 1e-9) + 1
+            _check_count(n, where)
+            values = a + h * np.arange(n)
         return [round(float(v), 12) for v in values]  # 0.1 steps give 0.3, not 0.30000000000000004
     if isinstance(value, list):
         if not value:
             raise InputError(f"{where}: the list is empty; expected at least one value")
         return [_number(v, where) for v in value]
     return [_number(value, where)]
+
+
+def _check_count(n, where):
+    if n > MAX_RANGE:  # refused before any list is made (memory)
+        raise InputError(f"{where}: the range has {n:.6g} values; expected at most {MAX_RANGE}")
 
 
 def _number(value, where) -> float:
@@ -198,6 +215,8 @@ def read_study(path) -> Study:
         spec = json.loads(p.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError(f"{path}: not a JSON study spec ({exc})") from None
+    except RecursionError:
+        raise InputError(f"{path}: JSON nested too deeply to read; expected a JSON study spec") from None
     if not isinstance(spec, dict) or "structure" not in spec:
         raise InputError(f"{path}: 'structure' is missing; expected the path of a .dat or .json structure")
     where = Path(spec["structure"])
@@ -207,30 +226,8 @@ def read_study(path) -> Study:
 
 
 # ------------------------------------------------------------------------- variants
-def with_load_angle(structure: Structure, degrees: float) -> Structure:
-    """A copy with every live force rotated by ``degrees`` counter-clockwise."""
-    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
-    out = copy.deepcopy(structure)
-    out.live = structure.live @ np.array([[c, s], [-s, c]])
-    return out
-
-
-def with_block_sizes(structure: Structure, factors) -> Structure:
-    """A copy with block j's size scaled by factors[j] in place (see the module doc)."""
-    f = np.asarray(factors, dtype=float)
-    out = copy.deepcopy(structure)
-    out.dead = structure.dead * (f ** 2)[:, None]
-    out.live = structure.live * (f ** 2)[:, None]
-    ia, ib = structure.contact_blocks()
-    fa = np.where(ia >= 0, f[ia], np.inf)
-    fb = np.where(ib >= 0, f[ib], np.inf)
-    out.d = structure.d * np.minimum(fa, fb)
-    return out
-
-
 def variant_structure(study: Study, params: dict, rng: np.random.Generator) -> tuple[Structure, dict]:
     """The structure of one variant and what its random draw was (summary columns)."""
-    from .studies import with_dead_force, with_friction
     s, drawn = study.structure, {}
     if "mu" in params:
         s = with_friction(s, params["mu"])
@@ -254,7 +251,7 @@ def variant_structure(study: Study, params: dict, rng: np.random.Generator) -> t
 def solve_variant(study: Study, params: dict, seed: np.random.SeedSequence) -> dict:
     """One row of the table: a pure function of (study, params, seed)."""
     from .search.driver import SolveOptions, solve
-    from .studies import outcome_row
+    from .output.rows import outcome_row
     words = seed.generate_state(5)  # [GA seed, perturbation stream...]: pure, unlike spawn()
     ga_seed = int(words[0])
     structure, drawn = variant_structure(study, params, np.random.default_rng(words[1:]))
@@ -270,37 +267,62 @@ def run_study(study: Study, workers: int | None = None, scheduler: str | None = 
               progress: bool | None = None, on_row=None) -> pd.DataFrame:
     """Solve every variant (on ``executor``, or a fresh one with ``workers`` local processes
     or on ``scheduler``); the table in variant order. ``progress``: a tqdm bar on stderr
-    (default: only when stderr is a terminal); ``on_row(row)`` after each variant."""
+    (default: only when stderr is a terminal); ``on_row(row)`` after each variant.
+
+    A stop signal (Ctrl-C, SIGTERM, SIGHUP: :data:`lamodel.search.options.STOP_SIGNALS`)
+    ends the study: the table holds the variants done (one the signal stopped has status
+    ``interrupted`` and its best certified state), the others have status ``not run``, and
+    ``df.attrs["interrupted"]`` is True."""
     import sys
 
     from tqdm import tqdm
 
     from .search.executor import Executor
+    from .search.options import catch_sigint, clear_stop_signal, restore_sigint, stop_signal
     variants = study.variants()
     if progress is None:
         progress = sys.stderr.isatty()
     bar = tqdm(total=len(variants), desc=f"study {study.name}", unit="variant", file=sys.stderr,
                disable=not progress, dynamic_ncols=True)
-    best = [math.inf]
+    best, rows = [math.inf], {}
 
     def done(res):
-        row = _row(variants[res.index], res)
+        row = rows[res.index] = _row(variants[res.index], res)
         if row["certified"] and row["alpha"] < best[0]:
             best[0] = row["alpha"]
             bar.set_postfix_str(f"least alpha {best[0]:.6f}")
         bar.update()
         if on_row is not None:
             on_row(row)
+        if stop_signal() is not None:  # it stopped a variant solved in this process
+            raise KeyboardInterrupt
+
+    def interrupt():
+        raise KeyboardInterrupt
 
     own = executor is None
-    ex = executor or Executor(workers=workers, scheduler=scheduler, preload=("lamodel.search.driver",))
+    clear_stop_signal()
+    old = catch_sigint(interrupt)
+    results = None
     try:
-        results = ex.map(solve_variant, variants, shared=study, seed=study.seed, progress=done)
+        ex = executor or Executor(workers=workers, scheduler=scheduler, preload=("lamodel.search.driver",))
+        try:
+            results = ex.map(solve_variant, variants, shared=study, seed=study.seed, progress=done)
+        finally:
+            if own:
+                ex.close()
+    except KeyboardInterrupt:
+        pass
     finally:
+        restore_sigint(old)
         bar.close()
-        if own:
-            ex.close()
-    return _table([_row(v, r) for v, r in zip(variants, results)])
+    if results is not None:  # every variant ran (on Dask, attempts are known only now)
+        df = _table([_row(v, r) for v, r in zip(variants, results)])
+    else:
+        df = _table([rows.get(i) or {**v, "alpha": np.nan, "certified": False, "status": "not run"}
+                     for i, v in enumerate(variants)])
+    df.attrs["interrupted"] = results is None
+    return df
 
 
 def _row(params, res) -> dict:
@@ -328,81 +350,103 @@ def parameter_columns(df: pd.DataFrame) -> list[str]:
     return [c for c in df.columns if c not in RESULT_COLUMNS]
 
 
-# ------------------------------------------------------------------------- the picture
-def plot_study(df: pd.DataFrame, study: Study, path) -> str:
-    """alpha against the first varied parameter (one line per combination of the others;
-    with random samples, the samples and their median), or, when only random
-    perturbations vary, the distribution of alpha (histogram and ECDF, with the 5 %, 50 %
-    and 95 % quantiles). Returns the path."""
-    from .studies import save_figure
-    varied = [c for c, _ in study.grid]
-    ok = df[df["certified"]]
-
-    def draw(fig):
-        if not varied:
-            _plot_distribution(fig, ok["alpha"].to_numpy(), study, len(df))
-        else:
-            _plot_against(fig.add_subplot(), df, varied, study)
-    return save_figure(path, draw, size=(9.0 if not varied else 6.4, 4.2))
-
-
-def _plot_distribution(fig, alpha, study, total):
-    ax1, ax2 = fig.subplots(1, 2)
-    if alpha.size == 0:
-        ax1.text(0.5, 0.5, "no certified variant", ha="center", transform=ax1.transAxes)
-        return
-    q = np.quantile(alpha, [0.05, 0.5, 0.95])
-    ax1.hist(alpha, bins=max(5, min(30, alpha.size // 2)), color="#c0392b", alpha=0.75)
-    x = np.sort(alpha)
-    ax2.step(x, np.arange(1, x.size + 1) / x.size, where="post", color="#c0392b")
-    for ax in (ax1, ax2):
-        for v, label, style in zip(q, ("5 %", "median", "95 %"), (":", "--", ":")):
-            ax.axvline(v, color="#1f5fbf", linestyle=style, linewidth=1.0, label=f"{label} {v:.4f}")
-        ax.set_xlabel(r"certified collapse multiplier $\alpha_c$")
-        ax.grid(True, linewidth=0.3)
-    from matplotlib.ticker import MaxNLocator
-    ax1.yaxis.set_major_locator(MaxNLocator(integer=True))
-    ax1.set_ylabel("variants")
-    ax2.set_ylabel(r"fraction of variants with $\alpha_c \leq$ x")
-    ax2.legend(loc="lower right", fontsize="small")
-    fig.suptitle(f"{study.name}: {alpha.size} of {total} variants certified")
-
-
-def _plot_against(ax, df, varied, study):
-    x, others = varied[0], varied[1:]
-    groups = df.groupby(others, sort=False) if others else [((), df)]
-    for k, (key, g) in enumerate(groups):
-        key = key if isinstance(key, tuple) else (key,)
-        label = ", ".join(f"{c} = {v:g}" for c, v in zip(others, key))
-        color = f"C{k}"
-        ok = g[g["certified"]]
-        if study.random:
-            ax.plot(ok[x], ok["alpha"], ".", color=color, alpha=0.35, markersize=4)
-            med = ok.groupby(x)["alpha"].median()
-            ax.plot(med.index, med.to_numpy(), "o-", color=color, label=(label + ": " if label else "") + "median")
-        else:
-            ax.plot(ok[x], ok["alpha"], "o-", color=color, label=label or r"$\alpha_c$ (certified)")
-        if not others and not study.random:
-            ax.plot(g[x], g["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
-        for v in g.loc[~g["certified"], x]:
-            ax.axvline(v, color=color, linestyle=":", linewidth=0.8)
-    ax.set_xlabel({"mu": r"friction coefficient $\mu$", "load_angle": "live-load angle (degrees)",
-                   "dead_fx": f"dead force $f_x$ on {study.dead_block}",
-                   "dead_fy": f"dead force $f_y$ on {study.dead_block}"}.get(x, x))
-    ax.set_ylabel(r"load multiplier $\alpha$")
-    ax.set_title(f"{study.name}: collapse multiplier against {x.replace('_', ' ')}")
-    ax.grid(True, linewidth=0.3)
-    ax.legend(loc="best", fontsize="small")
-
-
+# ------------------------------------------------------------------------- files
 def write_study(df: pd.DataFrame, study: Study, out, plot: bool = True) -> list[str]:
     """study.csv (atomic) and study.png in the folder ``out``; the paths written."""
-    from .studies import write_csv
+    from .io.files import write_csv
+    from .output.figures import plot_study
     out = Path(os.fspath(out))
     written = [write_csv(df, out / "study.csv")]
     if plot:
         written.append(plot_study(df, study, out / "study.png"))
     return written
+
+
+@dataclass
+class StudyRun:
+    """A study run into its folder (:func:`run_study_into`): the table, the files written,
+    and whether a signal stopped it."""
+
+    study: Study
+    table: pd.DataFrame
+    folder: Path
+    written: list
+
+    @property
+    def interrupted(self) -> bool:
+        """True when a stop signal ended the study before every variant ran."""
+        return bool(self.table.attrs.get("interrupted"))
+
+    @property
+    def certified(self) -> bool:
+        """True when every variant has a certified multiplier."""
+        return bool(self.table["certified"].all())
+
+    def text(self) -> str:
+        """The table (without where and when each variant ran) and the files written."""
+        shown = [c for c in self.table.columns if c not in ("status", "ga_seed", "worker", "error")]
+        with pd.option_context("display.width", 200, "display.max_columns", 30, "display.max_rows", 60):
+            table = self.table[shown].to_string(index=False, float_format=lambda v: f"{v:.6g}")
+        return table + "\nwritten: " + ", ".join(self.written)
+
+    def line(self) -> str:
+        """The one-line result."""
+        df, n = self.table, len(self.table)
+        ok = df["certified"]
+        retried = int((df["attempts"].fillna(0) > 1).sum())
+        failed = int((df["error"].fillna("") != "").sum())
+        not_run = int((df["status"] == "not run").sum())
+        least = f"; least alpha {df.loc[ok, 'alpha'].min():.6f}" if ok.any() else ""
+        return (f"study {self.study.name}: {int(ok.sum())} of {n} variants certified{least}"
+                + (f"; {retried} retried after a failure" if retried else "")
+                + (f"; {failed} failed" if failed else "")
+                + (f"; interrupted, {not_run} not run" if self.interrupted else ""))
+
+
+def run_study_into(study: Study, out=None, workers: int | None = None, scheduler: str | None = None,
+                   plot: bool = True, max_variants: int | None = None, echo=None) -> StudyRun:
+    """Run a study into a folder, as ``lamodel study`` does: ``out`` (default
+    ``results/<study name>/``, the name made safe) gets ``study.csv`` and ``study.png``.
+
+    The number of variants is told (``echo(line)``) before any starts; more than
+    ``max_variants`` is refused (InputError). Rows are appended to ``study.partial.csv``
+    as the variants finish; at the end (also after a stop signal: the rows done, the
+    others marked ``not run``) the table is written whole to ``study.csv`` and the
+    partial file removed. :class:`lamodel.errors.OutputError` when the folder cannot be
+    written."""
+    import csv
+
+    from .io.files import safe_folder_name
+    out = Path(out) if out else Path("results") / safe_folder_name(study.name)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: exists and is not a folder; expected a folder for the study files")
+    n = study.count()
+    if max_variants is not None and n > max_variants:
+        raise InputError(f"study {study.name}: the spec asks for {n} variants, more than {max_variants}; "
+                         f"expected --max-variants {n} (or a smaller spec) to run them")
+    if scheduler is not None:
+        from .search.executor import check_scheduler
+        check_scheduler(scheduler)  # before the folder is made
+    if echo is not None:
+        echo(f"study {study.name}: {n} variants of '{study.structure.name}'")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        partial = out / "study.partial.csv"
+        with open(partial, "w", newline="", encoding="utf-8") as fh:
+            writer = []
+
+            def stream(row):  # the columns of the first row that finishes
+                if not writer:
+                    writer.append(csv.DictWriter(fh, fieldnames=list(_table([row]).columns), extrasaction="ignore"))
+                    writer[0].writeheader()
+                writer[0].writerow(row)
+                fh.flush()
+            df = run_study(study, workers=workers, scheduler=scheduler, on_row=stream)
+        written = write_study(df, study, out, plot=plot)
+        partial.unlink()
+    except OSError as exc:
+        raise OutputError(exc.errno, f"cannot write the study to {out}: {exc.strerror or exc}") from None
+    return StudyRun(study, df, out, written)
 
 
 def with_options(study: Study, **options) -> Study:

@@ -1,16 +1,15 @@
-"""Studies built on the driver: variants of a structure, a friction study, the seed's Table 1.
+"""Studies built on the driver: a friction study, load cases, a rolling load, the seed's Table 1.
 
 These are the reusable parts of ``examples/friction_study.py``, ``examples/tie_force.py``
 and ``scripts/table1.py``. Every multiplier they report is a certified collapse
 multiplier of :func:`lamodel.search.driver.solve` (NaN when the driver certified none), so it is
 the least collapse multiplier lamodel *found*: an upper bound on the true minimum α_c.
 
-Variants of a structure are deep copies; the structure passed in is never modified.
+The variants they solve are deep copies (:mod:`lamodel.variants`); the structure passed in
+is never modified.
 """
 from __future__ import annotations
 
-import copy
-import os
 import time
 from pathlib import Path
 
@@ -18,8 +17,8 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError
-from .output.modes import modes_from_flow
-from .search.driver import Outcome, SolveOptions, solve
+from .output.rows import outcome_row
+from .search.driver import SolveOptions, solve
 from .structure import Structure
 
 #: Reference data shipped with the package (the seed's Table 1).
@@ -31,56 +30,6 @@ FRICTION_COLUMNS = ("mu", "alpha_c", "alpha_associative", "certified", "n_slidin
 
 #: Published columns of the seed's Table 1 (references/table1.csv).
 TABLE1_REFERENCE_COLUMNS = ("wall", "n_blocks", "ferris_tin_loi_2", "gilbert_4", "mihai_5", "seed")
-
-
-# ------------------------------------------------------------------------- variants
-def with_friction(structure: Structure, mu: float) -> Structure:
-    """A copy of the structure with the friction coefficient mu on every contact."""
-    mu = float(mu)
-    if not np.isfinite(mu) or mu < 0:
-        raise InputError(f"friction coefficient {mu}: expected a finite number >= 0")
-    s = copy.deepcopy(structure)
-    s.mu = np.full(s.n_contacts, mu)
-    s.name = f"{structure.name}_mu{mu:g}"
-    return s
-
-
-def with_dead_force(structure: Structure, block: str, fx: float = 0.0, fy: float = 0.0,
-                    name: str | None = None) -> Structure:
-    """A copy of the structure with a constant force (fx, fy) added at the centroid of
-    ``block`` to its dead load f0 (e.g. a tie force found by a user's study)."""
-    index = structure.block_index()
-    if block not in index:
-        raise InputError(f"structure '{structure.name}': no movable block '{block}'; expected one of "
-                         f"{', '.join(structure.blocks[:8])}{', ...' if structure.n_blocks > 8 else ''}")
-    s = copy.deepcopy(structure)
-    s.dead[index[block]] += (float(fx), float(fy))
-    s.name = name or f"{structure.name}_{block}_force"
-    return s
-
-
-# ------------------------------------------------------------------------- one solve
-def mode_counts(structure: Structure, xi) -> dict:
-    """Contacts that slip (modes sliding, sliding+hinging), rotate (hinging,
-    sliding+hinging) and open, in a mechanism's flow xi."""
-    modes = modes_from_flow(structure, xi)
-    return {"n_sliding": sum(m in ("sliding", "sliding+hinging") for m in modes),
-            "n_hinging": sum(m in ("hinging", "sliding+hinging") for m in modes),
-            "n_open": sum(m == "open" for m in modes)}
-
-
-def outcome_row(outcome: Outcome) -> dict:
-    """The certified multiplier, the associative bound and the mechanism's mode counts."""
-    best = outcome.best
-    row = {"alpha_c": best.alpha if best is not None else np.nan,
-           "alpha_associative": outcome.alpha_associative,
-           "certified": best is not None}
-    if best is not None:
-        row.update(mode_counts(outcome.structure, best.xi))
-    else:
-        row.update(n_sliding=0, n_hinging=0, n_open=0)
-    row.update(seconds=outcome.wall_time_s, status=outcome.status)
-    return row
 
 
 # ------------------------------------------------------------------------- friction
@@ -110,46 +59,6 @@ def friction_study(structure: Structure, mus, options: SolveOptions | None = Non
     return df.rename(columns={"alpha": "alpha_c"})[list(FRICTION_COLUMNS)]
 
 
-def save_figure(path, draw, size=(6.4, 4.2)) -> str:
-    """A matplotlib figure (Agg) drawn by ``draw(fig)``, saved atomically to ``path``
-    (folders created; the format from the suffix); returns the path."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    path = Path(os.fspath(path))
-    if path.parent and not path.parent.exists():
-        path.parent.mkdir(parents=True, exist_ok=True)
-    fig = plt.figure(figsize=size, dpi=110)
-    try:
-        draw(fig)
-        fig.tight_layout()
-        _atomic(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png"))
-    finally:
-        plt.close(fig)
-    return str(path)
-
-
-def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str:
-    """alpha_c and the associative bound against mu (matplotlib, Agg); returns the path."""
-    def draw(fig):
-        ax = fig.add_subplot()
-        ok = df["certified"].astype(bool)
-        ax.plot(df["mu"], df["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
-        ax.plot(df.loc[ok, "mu"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", label=r"$\alpha_c$ (certified)")
-        if (~ok).any():
-            for mu in df.loc[~ok, "mu"]:
-                ax.axvline(mu, color="#c0392b", linestyle=":", linewidth=0.8)
-        lo, hi = float(df["mu"].min()), float(df["mu"].max())
-        ax.plot([lo, hi], [lo, hi], ":", color="#1f5fbf", linewidth=0.9, label=r"$\alpha = \mu$")
-        ax.set_xlabel(r"friction coefficient $\mu$")
-        ax.set_ylabel(r"load multiplier $\alpha$")
-        ax.set_title(title or r"collapse multiplier against $\mu$")
-        ax.grid(True, linewidth=0.3)
-        ax.legend(loc="best", fontsize="small")
-    return save_figure(path, draw)
-
-
 # ------------------------------------------------------------------------- load cases, rolling load
 #: Columns of :func:`load_case_study` (after ``case``) and :func:`rolling_study` (after
 #: ``position`` and ``blocks``).
@@ -159,9 +68,14 @@ VARIANT_COLUMNS = ("alpha_c", "alpha_associative", "certified", "n_sliding", "n_
 
 def _variant_study(key, labels, variants, options, progress):
     """Solve every variant; a table (one row each, the least certified alpha marked
-    ``governing``) and the outcomes by label."""
+    ``governing``) and the outcomes by label. A stop signal (Ctrl-C, SIGTERM, SIGHUP)
+    ends the study: the variants after the one it stopped have status ``not run``."""
     rows, outcomes = [], {}
     for label, structure in zip(labels, variants):
+        if rows and rows[-1]["status"] == "interrupted":
+            rows.append({key: label, "alpha_c": np.nan, "alpha_associative": np.nan, "certified": False,
+                         "n_sliding": 0, "n_hinging": 0, "n_open": 0, "seconds": 0.0, "status": "not run"})
+            continue
         outcome = solve(structure, options or SolveOptions())
         outcomes[label] = outcome
         row = {key: label, **outcome_row(outcome)}
@@ -211,60 +125,25 @@ def rolling_study(structure: Structure, options: SolveOptions | None = None, pos
     return df[["position", "blocks", *VARIANT_COLUMNS]], outcomes
 
 
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def rolling_figure(df: pd.DataFrame, title: str | None = None, length_unit: str = ""):
-    """A matplotlib figure: alpha against the position of the rolling load, the worst
-    position starred, positions without a certified alpha dotted."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(6.4, 3.8), dpi=110)
-    ok = df["certified"].astype(bool)
-    ax.plot(df.loc[ok, "position"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", ms=4,
-            label=r"$\alpha_c$ (certified)")
-    worst = df[df["governing"].astype(bool)]
-    if len(worst):
-        ax.plot(worst["position"], worst["alpha_c"], "*", color="black", ms=12,
-                label=f"worst: x = {worst['position'].iloc[0]:.3g}, α = {worst['alpha_c'].iloc[0]:.4g}")
-    for x in df.loc[~ok, "position"]:
-        ax.axvline(x, color="#7f7f7f", linestyle=":", linewidth=0.8)
-    a = df.loc[ok, "alpha_c"]
-    if len(a) and a.min() > 0 and a.max() > 20 * a.min():  # near the supports alpha soars
-        ax.set_yscale("log")
-    ax.set_xlabel("position of the lead axle x" + (f" [{length_unit}]" if length_unit else ""))
-    ax.set_ylabel(r"load multiplier $\alpha$")
-    ax.set_title(title or "rolling load: collapse multiplier against position")
-    ax.grid(True, linewidth=0.3)
-    ax.legend(loc="best", fontsize="small")
-    fig.tight_layout()
-    return fig
-
-
-def cases_figure(df: pd.DataFrame, title: str | None = None):
-    """A matplotlib bar chart of alpha per load case, the governing case in red."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=110)
-    ok = df["certified"].astype(bool)
-    colours = ["#c0392b" if g else "#7f8c8d" for g in df["governing"].astype(bool)]
-    ax.bar(df["case"].astype(str), df["alpha_c"].where(ok, 0.0), color=colours)
-    ax.set_ylabel(r"load multiplier $\alpha$")
-    ax.set_title(title or "collapse multiplier per load case (governing in red)")
-    fig.tight_layout()
-    return fig
-
-
-def save_open_figure(fig, path) -> str:
-    """Save a figure atomically (format from the extension) and close it."""
-    path = Path(os.fspath(path))
-    try:
-        _atomic(path, lambda tmp: fig.savefig(tmp, format=path.suffix.lstrip(".") or "png"))
-    finally:
-        _pyplot().close(fig)
-    return str(path)
+def governing_study(structure: Structure, options: SolveOptions | None = None, progress=None):
+    """A structure's load cases, or its rolling load's positions, each solved: returns
+    (study, the governing outcome, summary columns). ``study`` has the ``key`` ("case"
+    or "position"), a ``title`` and the ``table``; the governing outcome is the least
+    certified one (the first when none is certified); the summary columns name it
+    (``case`` or ``position``) and say whether it governs. ``progress(row)`` after each
+    solve; a stop signal ends it (``study["interrupted"]``, the rest ``not run``)."""
+    from dataclasses import replace
+    quiet = replace(options or SolveOptions(), progress=False)
+    if structure.cases:
+        df, outcomes = load_case_study(structure, quiet, progress=progress)
+        key, title = "case", f"Load cases ({len(df)})"
+    else:
+        df, outcomes = rolling_study(structure, quiet, progress=progress)
+        key, title = "position", f"Rolling load ({len(df)} positions)"
+    label = governing(df, key)
+    chosen = label if label is not None else next(iter(outcomes))
+    study = {"key": key, "title": title, "table": df, "interrupted": bool((df["status"] == "interrupted").any())}
+    return study, outcomes[chosen], {key: chosen, "governing": label is not None}
 
 
 # ------------------------------------------------------------------------- Table 1
@@ -321,17 +200,20 @@ def table1(options: SolveOptions | None = None, instances=None, reference=None, 
                                        "seconds"])
 
 
-# ------------------------------------------------------------------------- files
-def _atomic(path: Path, write):
-    """Call write(tmp) on a temporary file in path's folder, then rename it over path."""
-    from .io.files import atomic_write
-    return atomic_write(path, write)
-
-
-def write_csv(df: pd.DataFrame, path) -> str:
-    """Write a table as CSV atomically (a reader never sees a partial file); folders are
-    created. Floats are written in their shortest round-trip form (read back exactly)."""
-    path = Path(os.fspath(path))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    _atomic(path, lambda tmp: df.to_csv(tmp, index=False))
-    return str(path)
+def table1_into(path, options: SolveOptions | None = None, echo=None) -> pd.DataFrame:
+    """:func:`table1`, printed through ``echo(line)`` as each wall ends and as a whole,
+    and written to the CSV file ``path`` (``lamodel table1``). Returns the table."""
+    from .io.files import write_csv
+    say = echo or (lambda line: None)
+    options = options or SolveOptions()
+    df = table1(options, progress=lambda r: say(f"  {r['wall']}: alpha = {r['lamodel']:.6f} "
+                                                f"({'certified' if r['certified'] else 'NOT certified'}, "
+                                                f"{r['seconds']:.1f} s)"))
+    with pd.option_context("display.width", 160, "display.max_columns", 20):
+        say(df.to_string(index=False, formatters={
+            c: (lambda v: f"{v:.6f}") for c in ("lamodel", "alpha_associative")} | {
+            c: (lambda v: f"{v:.5f}") for c in ("ferris_tin_loi_2", "gilbert_4", "mihai_5", "seed")} | {
+            "seconds": lambda v: f"{v:.1f}"}))
+    write_csv(df, path)
+    say(f"written to {path} (seed {options.seed}, starts {'default' if options.starts is None else options.starts})")
+    return df

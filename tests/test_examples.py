@@ -33,6 +33,7 @@ def _result(proc):
 
 
 # ------------------------------------------------------------------------- tie force
+@pytest.mark.slow
 def test_tie_force_example_meets_its_target(tmp_path):
     target = 0.645
     proc = run_example("tie_force.py", "--target", target, "--checks", 1, "--csv", tmp_path / "tie.csv")
@@ -55,6 +56,7 @@ def test_tie_force_example_meets_its_target(tmp_path):
     assert alpha <= ipopt + 1e-9
 
 
+@pytest.mark.slow
 def test_tie_force_example_says_when_the_target_is_out_of_reach():
     """A target of 0.70: Ipopt finds T = 1.5 and a collapse state at 0.70, but with that
     tie a half block at the right end (b28 below b33, or b17: equal multipliers) slides
@@ -72,6 +74,7 @@ def test_tie_force_example_says_when_the_target_is_out_of_reach():
 
 
 # ------------------------------------------------------------------------- friction
+@pytest.mark.slow
 def test_friction_study_example(tmp_path):
     proc = run_example("friction_study.py", "--mus", "0.4,0.65,0.9", "--out", tmp_path / "a.png")
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -113,6 +116,7 @@ def test_friction_study_rejects_bad_mus(tmp_path):
 
 
 # ------------------------------------------------------------------------- Table 1
+@pytest.mark.slow
 def test_table1_script(tmp_path):
     out = tmp_path / "sub" / "table1.csv"
     proc = run_script("table1.py", "--starts", 0, "--out", out)
@@ -144,7 +148,7 @@ def test_friction_study_on_a_stack(stack):
 
 def test_with_dead_force_copies(stack):
     from lamodel.errors import InputError
-    from lamodel.studies import with_dead_force
+    from lamodel.variants import with_dead_force
     tied = with_dead_force(stack, "b2", fx=-0.4)
     assert tied.dead[1].tolist() == pytest.approx([stack.dead[1, 0] - 0.4, stack.dead[1, 1]])
     assert stack.dead[1, 0] == 0.0
@@ -153,7 +157,7 @@ def test_with_dead_force_copies(stack):
 
 
 def test_write_csv_is_atomic_and_exact(tmp_path):
-    from lamodel.studies import write_csv
+    from lamodel.io.files import write_csv
     x = np.random.default_rng(0).random(50)
     path = tmp_path / "deep" / "t.csv"
     write_csv(pd.DataFrame({"x": x}), path)

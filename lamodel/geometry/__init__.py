@@ -6,11 +6,3 @@ from .contacts import find_contacts  # noqa: F401
 from .generators import arch, portal, running_bond_wall, seed_instances, seed_wall, wall_with_openings  # noqa: F401
 from .generators3d import (barrel_vault, box_building, dome, extrude, extruded_seed_instances,  # noqa: F401
                            facade, wall_panel)
-
-
-def __getattr__(name):
-    # The JSON reader lives in lamodel.io; kept reachable here for users of the old path.
-    if name in ("structure_from_json", "structure_to_json"):
-        from ..io import jsonspec
-        return getattr(jsonspec, name)
-    raise AttributeError(f"module 'lamodel.geometry' has no attribute '{name}'")

@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import InputError
 
 # ====================================================================== polygons
-def _clean_polygon(v: np.ndarray, tol: float, at: str) -> np.ndarray:
+def _clean_polygon(v: np.ndarray, tol: float, at: str, tol_text: str = "") -> np.ndarray:
     """Counter-clockwise convex polygon without repeated or collinear vertices.
 
     Collinear vertices are dropped so that every side of a block is one edge: a face
@@ -44,7 +44,9 @@ def _clean_polygon(v: np.ndarray, tol: float, at: str) -> np.ndarray:
             break
         v = v[~flat]
     if len(v) < 3:
-        raise InputError(f"{at} has zero area (its vertices are collinear); expected a polygon with a positive area")
+        raise InputError(f"{at} has zero area within the geometric tolerance {tol_text or f'{tol:.3g}'} (its vertices "
+                         "are collinear to that accuracy); expected a polygon with a positive area, wider "
+                         "than the tolerance (or a smaller 'tolerance')")
     e = np.roll(v, -1, axis=0) - v
     ep = np.roll(e, 1, axis=0)  # edge arriving at each vertex
     turn = ep[:, 0] * e[:, 1] - ep[:, 1] * e[:, 0]
@@ -68,8 +70,11 @@ def _clean_polygon(v: np.ndarray, tol: float, at: str) -> np.ndarray:
     return v
 
 
-def _clean_polygons(raw, tol, ids, where):
-    """:func:`_clean_polygon` for all bodies, vectorised over polygons of equal vertex count.
+def clean_polygons(raw, tol, ids, where, tol_text: str = ""):
+    """Counter-clockwise convex polygons without repeated or collinear vertices, for all
+    bodies, vectorised over polygons of equal vertex count; ``tol`` is absolute, and
+    ``tol_text`` says in errors where it comes from (e.g. a tolerance relative to the
+    model's size).
 
     Polygons already clean (no repeated or collinear vertex, convex, positive area) are
     only oriented counter-clockwise here; the others go through :func:`_clean_polygon`
@@ -99,11 +104,11 @@ def _clean_polygons(raw, tol, ids, where):
             else:
                 slow.append(j)
     for j in sorted(slow):
-        out[j] = _clean_polygon(raw[j], tol, f"{where}: block '{ids[j]}'")
+        out[j] = _clean_polygon(raw[j], tol, f"{where}: block '{ids[j]}'", tol_text)
     return out
 
 
-def _area_centroid(polygons):
+def area_centroid(polygons):
     """Areas and centroids of counter-clockwise polygons (shoelace formula, vectorised
     over polygons of equal vertex count, relative to a vertex to limit round-off)."""
     area = np.empty(len(polygons))

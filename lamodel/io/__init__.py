@@ -38,3 +38,16 @@ def read(path, **options):
         return read_dat(path)
     raise InputError(f"{path}: unknown file type '{ext}'; expected .dat (Pyomo data), .json (polygons, "
                      "polyhedra, COMPAS assembly) or a mesh (.obj, .ply, .stl, .gltf, .glb)")
+
+
+def build_dat(geometry, output=None, name: str | None = None) -> str:
+    """Write the Pyomo .dat instance of a JSON polygon geometry (``lamodel build``):
+    to ``output`` (default: next to the JSON, with .dat), named ``name`` (default: the
+    JSON 'name' or the file stem). Returns a one-line account of what was written."""
+    from .datfile import write_dat
+    from .jsonspec import structure_from_json
+    output = Path(output) if output else Path(geometry).with_suffix(".dat")
+    structure = structure_from_json(geometry, name=name)
+    write_dat(structure, output)
+    return (f"{output}: {structure.n_blocks} blocks, {len(structure.supports)} supports, "
+            f"{structure.n_contacts} contacts")

@@ -341,6 +341,10 @@ def _structure_from_data(path, data) -> Structure:
             raise InputError(f"{path}: vertex {key[1]} of '{key[0]}' is ({corner[0]}, {corner[1]}); "
                              "expected finite numbers vx and vy")
         polygons[str(key[0])].append(corner)
+    unknown = sorted(set(polygons) - set(blocks) - set(supports))
+    if unknown:
+        raise InputError(f"{path}: VERTICES lists '{unknown[0]}', which is not in the set of blocks or supports; "
+                         "expected vertices only for the ids of sets BLOCKS and SUPPORTS")
     structure = Structure(
         name=name, blocks=blocks,
         centroid=np.column_stack([bcols["x"], bcols["y"]]),

@@ -68,7 +68,7 @@ import numpy as np
 
 from ..errors import InputError
 from .files import read_text
-from ..geometry.contacts import _area_centroid, _clean_polygons, find_contacts
+from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
 from ..structure import Structure
 
 #: Geometric tolerance relative to the size of the model (diagonal of its bounding box):
@@ -107,6 +107,9 @@ def _load_spec(source):
     except json.JSONDecodeError as exc:
         raise InputError(f"{where}: malformed JSON at line {exc.lineno}, column {exc.colno} ({exc.msg}); "
                          "expected a JSON object describing the blocks") from None
+    except RecursionError:
+        raise InputError(f"{where}: JSON nested too deeply to read; expected a JSON object describing the "
+                         "blocks") from None
     if not isinstance(spec, dict):
         raise InputError(f"{where}: the file holds a JSON {type(spec).__name__}; expected a JSON object with a 'blocks' list")
     if "name" not in spec:
@@ -206,8 +209,9 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
     size = float(np.hypot(*(allv.max(axis=0) - allv.min(axis=0)))) or 1.0
     tol = rel_tol * size
 
-    polygons = _clean_polygons(raw, tol, ids, where)
-    area, centroid = _area_centroid(polygons)
+    polygons = clean_polygons(raw, tol, ids, where, f"{tol:.3g} (the 'tolerance' {rel_tol:g} times the model's size "
+                                                    f"{size:.3g})")
+    area, centroid = area_centroid(polygons)
 
     contacts = find_contacts(polygons, is_support, tol, ids=ids, where=where)
     ia, ib = contacts["a"], contacts["b"]

@@ -92,6 +92,8 @@ _GONE = object()
 def _serve():
     """The helper: load matplotlib, then draw the one picture it is sent; answers None or
     the exception raised (pickled)."""
+    from ..process import end_with_parent
+    end_with_parent()  # whatever ends the solve ends this helper too
     from . import plot  # noqa: F401  (the point of this process: loaded while the parent searches)
     try:
         job = pickle.load(sys.stdin.buffer)

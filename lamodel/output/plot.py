@@ -258,11 +258,11 @@ def animate_mechanism(structure: Structure, u, path, modes=None, alpha=None, cer
                       thrust=None, highlight=None) -> str:
     """A GIF of the mechanism growing from rest to the picture's amplification
     (matplotlib.animation with Pillow); written atomically. Returns ``path``."""
-    import tempfile
+    import secrets
 
     from matplotlib.animation import FuncAnimation, PillowWriter
 
-    from ..io.files import remove_quietly
+    from ..io.files import new_file, remove_quietly
     s = structure
     u = _block_motion(s, u)
     full = default_scale(s, u)
@@ -276,10 +276,10 @@ def animate_mechanism(structure: Structure, u, path, modes=None, alpha=None, cer
         return []
 
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".gif", dir=path.parent or ".")
-    os.close(fd)
+    # the temporary file keeps .gif (PIL picks the format from it) and gets the umask's mode
+    tmp = (path.parent or Path(".")) / f".{path.stem}.{secrets.token_hex(4)}.gif"
+    os.close(new_file(tmp))
     try:
-        # PIL picks the format from the suffix: the temporary file keeps .gif
         FuncAnimation(fig, frame, frames=frames, blit=False).save(tmp, writer=PillowWriter(fps=8), dpi=90)
         os.replace(tmp, path)
     except BaseException:

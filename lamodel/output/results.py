@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,8 +34,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..io.files import ResultFolder
-from .folder import TABLE_FILES
+from .folder import TABLE_FILES, ResultFolder
 from .modes import MODES
 
 
@@ -253,8 +253,26 @@ def _summary_folder(path) -> Path:
     raise InputError(f"{p}: no such folder or file; expected a result folder or its summary.csv")
 
 
+#: A result table larger than this is refused before it is read (a result folder of a
+#: million-block structure is a few hundred MB).
+MAX_TABLE_BYTES = 2**30
+
+
 def _read_table(path: Path) -> pd.DataFrame:
-    """Read a CSV file as text cells (no type guessing); InputError on an unreadable file."""
+    """Read a CSV file as text cells (no type guessing); InputError on an unreadable file,
+    on anything but a regular file (a device, a pipe) and on a file over MAX_TABLE_BYTES,
+    before reading it."""
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file; expected it in every result folder") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the file ({exc.strerror or exc}); expected a readable CSV table") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(f"{path}: not a regular file (a device, a pipe or a folder); expected a CSV table")
+    if info.st_size > MAX_TABLE_BYTES:
+        raise InputError(f"{path}: {info.st_size / 2**20:.0f} MB; expected a result table of at most "
+                         f"{MAX_TABLE_BYTES // 2**20} MB")
     try:
         return pd.read_csv(path, dtype=str, keep_default_na=False, na_filter=False,
                            skipinitialspace=False, encoding="utf-8")
@@ -327,7 +345,7 @@ class Results:
         runs.csv (and what ``also(staging_folder)`` writes there, e.g. the picture).
 
         Everything is written into a hidden sibling folder first, then swapped in
-        (:class:`lamodel.io.files.ResultFolder`): a reader sees the complete old folder or
+        (:class:`lamodel.output.folder.ResultFolder`): a reader sees the complete old folder or
         the complete new one, also if the process is killed; on any failure the old folder
         is untouched. A folder holding files lamodel did not write is refused (InputError),
         never emptied. Returns the folder path.

@@ -26,6 +26,10 @@ from .state import CollapseState
 ACTIVE_TOLERANCES = (1e-9, 1e-7, 1e-5, 1e-4, 1e-3)
 #: A certified state must satisfy every condition to this relative accuracy.
 RESIDUAL_TOLERANCE = 1e-7
+#: A block whose loads are below this fraction of the largest block load cannot be held
+#: to RESIDUAL_TOLERANCE of its own loads by LPs in double precision (measured: a load
+#: ratio of 1e-8 certifies the closed form, 1e-10 certifies nothing).
+LOAD_RESOLUTION = 1e-9
 
 
 def force_scale(lps: LimitLPs) -> float:
@@ -33,20 +37,53 @@ def force_scale(lps: LimitLPs) -> float:
     return float(max(np.abs(lps.f0).max(), np.abs(lps.fbar).max(), 1e-300))
 
 
+def block_sizes(structure) -> np.ndarray:
+    """A length per block: the farthest reach of its contacts from its centroid (centre
+    distance plus half-length), so that a moment on the block becomes a force there."""
+    ia, ib = structure.contact_blocks()
+    size = np.zeros(structure.n_blocks)
+    for idx in (ia, ib):
+        on = idx >= 0
+        reach = np.hypot(*(structure.centre[on] - structure.centroid[idx[on]]).T) + structure.d[on]
+        np.maximum.at(size, idx[on], reach)
+    return np.where(size > 0, size, structure.size())
+
+
+def unresolved_blocks(structure) -> list:
+    """The blocks whose loads (dead or live, moments by the block's own size) are below
+    :data:`LOAD_RESOLUTION` times the largest block load: no state can be certified for
+    them in double precision. Blocks without any load are not counted (their equilibrium
+    is measured against the contact forces on them)."""
+    L = block_sizes(structure)
+    own = np.maximum.reduce([np.abs(structure.dead).max(axis=1), np.abs(structure.live).max(axis=1),
+                             np.abs(structure.dead_m) / L, np.abs(structure.live_m) / L])
+    top = own.max() if own.size else 0.0
+    return [b for b, w in zip(structure.blocks, own) if 0 < w < LOAD_RESOLUTION * top]
+
+
 def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
     """Relative violations of every condition of a collapse state (0 is exact).
 
     equilibrium (eq. 2), yield (eq. 4), compatibility with the cohesive flow rule, the
     normalisation fbar^T u = 1, complementarity (flow only on rows held at equality) and
-    the virtual-work identity alpha = alpha_K (eq. 5).
+    the virtual-work identity alpha = alpha_K (eq. 5), each against the largest load of
+    the structure; and the same statics block by block and contact by contact
+    (``block_equilibrium``: each block's equilibrium against its own loads and the
+    contact forces on it, moments by its own size; ``contact_yield`` and
+    ``contact_complementarity``: each contact's rows against its own forces, never less
+    than the loads of the lighter of its blocks). A block far lighter than the rest (a
+    1e-3 m block on a 1e3 m one) is thereby held to its own scale: a state that leaves it
+    out of equilibrium by a fraction of its own weight is no collapse state, however
+    small that weight is beside the structure's.
     """
     x = np.concatenate([N, V, M, [alpha]])
     s = x[:-1]
     nc = len(N)
+    st = lps.structure
     # Every measure has one dimension, so that it has the same value in any units (a
     # moment against a force, or a rotation against a displacement, is not a ratio):
     # moments are made forces, and rotations lengths, by the structure's size.
-    Ls = lps.structure.size()
+    Ls = st.size()
 
     def per_block(v, scale):  # (x, y, moment or rotation) per block
         return np.concatenate([v[0::3], v[1::3], scale * v[2::3]])
@@ -55,12 +92,29 @@ def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
     u_l = per_block(u, Ls)
     xi_l = np.concatenate([xi[:2 * nc], Ls * xi[2 * nc:]])       # slips, hinge rotations
     U = max(np.abs(u_l).max(), np.abs(xi_l).max(), 1e-300)
-    eq = per_block(lps.A @ s + lps.f0 + alpha * lps.fbar, 1 / Ls)
+    unbalanced = lps.A @ s + lps.f0 + alpha * lps.fbar
+    eq = per_block(unbalanced, 1 / Ls)
     slack = lps.slack(x)                                          # slides: forces, hinges: moments
     slack_f = np.concatenate([slack[:2 * nc], slack[2 * nc:] / Ls])
     compat = -(lps.A.T @ u) - lps.G.T @ xi                         # opening, slip, rotation
     compat = np.concatenate([compat[:2 * nc], Ls * compat[2 * nc:]])
     work_scale = max(F * U, 1e-300)
+
+    # --- block by block, contact by contact
+    Lb = block_sizes(st)
+
+    def blocks(v):  # (nb, 3): fx, fy, moment / the block's own size
+        return np.abs(np.stack([v[0::3], v[1::3], v[2::3] / Lb], axis=1)).max(axis=1)
+    acting = blocks(abs(lps.A) @ np.abs(s))                       # the contact forces on each block
+    Sb = np.maximum.reduce([blocks(lps.f0), max(abs(alpha), 1.0) * blocks(lps.fbar), acting,
+                            np.full(len(Lb), 1e-300)])
+    d = np.maximum(st.d, 1e-300)
+    ia, ib = st.contact_blocks()
+    lighter = np.minimum(np.where(ia >= 0, Sb[np.maximum(ia, 0)], np.inf), np.where(ib >= 0, Sb[np.maximum(ib, 0)],
+                                                                                    np.inf))
+    Sc = np.maximum.reduce([np.abs(N), np.abs(V), np.abs(M) / d, lighter])
+    Sc4 = np.tile(Sc, 4)                                          # the 4 yield rows of each contact
+    slack_c = np.concatenate([slack[:2 * nc], slack[2 * nc:] / np.tile(d, 2)])
     return {
         "equilibrium": float(np.abs(eq).max() / F),
         "yield": float(max(-slack_f.min(), 0.0) / F),
@@ -69,6 +123,9 @@ def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
         "nonnegative_flow": float(max(-xi_l.min(), 0.0) / U),
         "complementarity": float(np.abs(xi * slack).max() / work_scale),
         "virtual_work": float(abs(lps.kinematic_multiplier(u, xi, N) - alpha) / max(abs(alpha), 1.0)),
+        "block_equilibrium": float((blocks(unbalanced) / Sb).max()),
+        "contact_yield": float((np.maximum(-slack_c, 0.0) / Sc4).max()),
+        "contact_complementarity": float((np.abs(xi_l * slack_c) / (Sc4 * U)).max()),
     }
 
 

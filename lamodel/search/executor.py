@@ -89,7 +89,10 @@ def context(key: str, shared, prepare: Callable | None):
 
 
 def _install(key, shared, prepare):
-    """Local pool initializer: the shared object travels once per worker process."""
+    """Local pool initializer: the shared object travels once per worker process, which
+    ends when the map's process does, whatever ends it."""
+    from ..process import end_with_parent
+    end_with_parent()  # its parent is the forkserver, which ends with the map's process
     _SHARED[key] = (shared, prepare)
 
 
@@ -269,6 +272,10 @@ class Executor:
                     running.clear()
                     pool.shutdown(wait=False, cancel_futures=True)
                     pool = self._pool(fn, key, shared, prepare)
+        except BaseException:  # a stop signal, an error: no variant runs on
+            from ..process import kill_quietly
+            kill_quietly(list((getattr(pool, "_processes", None) or {}).values()))
+            raise
         finally:
             pool.shutdown(wait=False, cancel_futures=True)
         return results

@@ -42,6 +42,8 @@ def _init_worker(structure: Structure, xi_factor: float, solver: str, own_signal
     """Build the Pyomo model of eq. (5) and compile it for Ipopt, once per worker."""
     if own_signals:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+        from ..process import end_with_parent
+        end_with_parent()  # whatever ends the solve (even kill -9) ends this worker too
     from ..formulation.model import create_model
     from .bridge import QuadraticNLP
     m = create_model(structure, xi_factor=xi_factor)

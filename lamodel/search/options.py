@@ -42,7 +42,9 @@ class SolveOptions:
                 return
             if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
                 raise InputError(f"option {name} is {v!r}; expected a whole number >= {minimum}")
-        whole("seed", -2**63)
+        whole("seed", 0)
+        if self.seed >= 2**63:  # numpy's generators take seeds >= 0; summary.csv stores a 64-bit integer
+            raise InputError(f"option seed is {self.seed!r}; expected a whole number >= 0 and < 2**63")
         whole("starts", 0, allow_none=True)
         whole("workers", 1, allow_none=True)
         whole("ga_workers", 1, allow_none=True)
@@ -112,21 +114,70 @@ class Deadline:
         return {"at": self.at if not self.expired() else time.monotonic(), "stop": None, "flag": False}
 
 
+#: The signals that stop a solve as Ctrl-C does: the search ends, its best certified state
+#: is kept (``timeout``, ``docker stop``, systemd and batch schedulers send SIGTERM; a
+#: closed terminal sends SIGHUP).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+_received: list = []  # the stop signals that arrived, in order
+
+
+def stop_signal() -> int | None:
+    """The first stop signal (:data:`STOP_SIGNALS`) that arrived since
+    :func:`clear_stop_signal`, or None."""
+    return _received[0] if _received else None
+
+
+def clear_stop_signal():
+    """Forget the stop signals that arrived (a new run starts)."""
+    _received.clear()
+
+
+def note_stop_signal(signum: int):
+    """Record a stop signal (what :func:`stop_signal` answers)."""
+    _received.append(int(signum))
+
+
 def catch_sigint(on_sigint):
-    """Let Ctrl-C call ``on_sigint()`` instead of raising KeyboardInterrupt; returns what
+    """Let Ctrl-C (SIGINT), SIGTERM and SIGHUP call ``on_sigint()`` instead of ending the
+    process; the signal is recorded (:func:`stop_signal`). Returns what
     :func:`restore_sigint` needs, or None when nothing was changed.
 
-    Nothing is changed outside the main thread (Python allows handlers only there) or when
-    SIGINT is ignored: a shell starts background jobs that way so that Ctrl-C at the
-    terminal leaves them running, and Python itself honours it.
+    Nothing is changed outside the main thread (Python allows handlers only there), nor
+    for a signal that is ignored: a shell starts background jobs with SIGINT ignored so
+    that Ctrl-C at the terminal leaves them running, ``nohup`` ignores SIGHUP, and Python
+    itself honours both. SIGTERM and SIGHUP are taken over only from their default action
+    or from a handler marked ``stops_lamodel`` (the command line's): a program that calls
+    lamodel with its own handler keeps it, and one whose SIGTERM or SIGHUP had its default
+    action gets it back when the work is done (:func:`restore_sigint` delivers it again:
+    the process ends as it would have, its workers already stopped).
     """
     if threading.current_thread() is not threading.main_thread():
         return None
-    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
-        return None
-    return signal.signal(signal.SIGINT, lambda signum, frame: on_sigint())
+
+    def handler(signum, frame):
+        note_stop_signal(signum)
+        on_sigint()
+    handler.stops_lamodel = True
+    old = {}
+    for sig in STOP_SIGNALS:
+        current = signal.getsignal(sig)
+        if current is signal.SIG_IGN:
+            continue
+        if sig != signal.SIGINT and current not in (signal.SIG_DFL, None) and not getattr(current, "stops_lamodel",
+                                                                                         False):
+            continue
+        old[sig] = signal.signal(sig, handler)
+    return (old, len(_received)) if old else None
 
 
-def restore_sigint(old):
-    if old is not None:
-        signal.signal(signal.SIGINT, old)
+def restore_sigint(caught):
+    """Put back the handlers :func:`catch_sigint` replaced; a SIGTERM or SIGHUP that
+    arrived meanwhile, where its action was the default one, is delivered again."""
+    if caught is None:
+        return
+    old, mark = caught
+    for sig, handler in old.items():
+        signal.signal(sig, handler)
+    for sig in dict.fromkeys(_received[mark:]):
+        if sig != signal.SIGINT and old.get(sig) in (signal.SIG_DFL, None) and sig in old:
+            signal.raise_signal(sig)

@@ -27,7 +27,7 @@ import pytest
 
 import lamodel.search.driver as driver_mod
 import lamodel.search.ipopt as ipopt_mod
-import lamodel.io.files as files_mod
+import lamodel.output.folder as files_mod
 import lamodel.output.results as results_mod
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.io.jsonspec import structure_from_json
@@ -280,6 +280,7 @@ def test_bad_json_file(tmp_path, capfd, name):
     assert not (tmp_path / "out").exists(), "bad input must not leave a result folder"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("key", [k for k in FRESH if ":" in k])
 def test_bad_input_in_a_fresh_process(fresh, key):
     p, folder = fresh[key]
@@ -358,6 +359,7 @@ def test_out_is_an_existing_file(tmp_path, capfd):
 
 
 # ------------------------------------------------------------ 2. physical edge cases
+@pytest.mark.slow
 def test_unstable_under_dead_load(tmp_path, capfd):
     path, folder = tmp_path / "overhang.json", tmp_path / "out"
     path.write_text(json.dumps(OVERHANG))
@@ -422,6 +424,7 @@ def time_limited(tmp_path_factory):
     return p, out, time.perf_counter() - t
 
 
+@pytest.mark.slow
 def test_time_limit_writes_a_complete_result_folder(time_limited):
     p, out, elapsed = time_limited
     assert p.returncode in (0, 3), p.stderr
@@ -436,6 +439,7 @@ def test_time_limit_writes_a_complete_result_folder(time_limited):
     assert elapsed < 60
 
 
+@pytest.mark.slow
 def test_time_limit_is_recorded_in_runs(time_limited):
     _, out, _ = time_limited
     r = Results.read(out)
@@ -503,6 +507,7 @@ def _raise(*args, **kwargs):
     raise RuntimeError("Ipopt exploded")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("task, status", [(_die, "worker died"), (_raise, "failed: RuntimeError: Ipopt exploded")])
 def test_failing_ipopt_worker(monkeypatch, wall33, task, status):
     options = dict(seed=0, pop_size=4, generations=2)
@@ -560,6 +565,7 @@ def interrupted(tmp_path_factory):
     return p.returncode, stdout, stderr, out, time.perf_counter() - t, kids
 
 
+@pytest.mark.slow
 def test_ctrl_c_writes_complete_results(interrupted):
     code, stdout, stderr, out, latency, kids = interrupted
     assert code in (130, 0), (code, stderr[-2000:])
@@ -580,6 +586,7 @@ def test_ctrl_c_writes_complete_results(interrupted):
     assert not [k for k in kids if Path(f"/proc/{k}").exists()], "Ipopt workers outlived the run"
 
 
+@pytest.mark.slow
 def test_ctrl_c_is_recorded_in_runs(interrupted):
     code, _, _, out, _, _ = interrupted
     r = Results.read(out)
@@ -596,6 +603,7 @@ def _solve_wall33(out, preexec_fn, *python_options):
                             env=env, preexec_fn=preexec_fn)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("after", [0.0, 0.05, 0.15, 0.3, 0.5])
 def test_ctrl_c_during_start_up(tmp_path, after):
     """Ctrl-C while the modules load (the command-line parser imports the search's
@@ -656,6 +664,7 @@ def test_an_import_error_without_ctrl_c_is_not_an_interrupt(monkeypatch):
         cli.command("solve", ["instances/wall33.dat"], prog="solve.py")
 
 
+@pytest.mark.slow
 def test_ignored_sigint_stays_ignored(tmp_path):
     """A run started with SIGINT ignored (`lamodel solve ... &` from a script) is not
     stopped by it: the search does not put its own Ctrl-C handler over the ignore."""

@@ -24,12 +24,14 @@ def loaded_after(code):
     return out.stdout.strip().splitlines()[-1]
 
 
+@pytest.mark.slow
 def test_reading_results_and_comparing_load_no_solver():
     assert loaded_after("import lamodel") == "[]"
     assert loaded_after("import lamodel.output.results, lamodel.output.compare, lamodel.cli") == "[]"
     assert loaded_after("from lamodel.cli import _parser; _parser().format_help()") == "[]"
 
 
+@pytest.mark.slow
 def test_the_model_registers_the_ipopt_bridge():
     code = ("import lamodel\nm = lamodel.create_model\nfrom pyomo.environ import SolverFactory\n"
             "print(SolverFactory('lamodel_ipopt').available())")
@@ -37,6 +39,7 @@ def test_the_model_registers_the_ipopt_bridge():
     assert out.stdout.strip() == "True", out.stderr
 
 
+@pytest.mark.slow
 def test_help_lists_the_commands():
     res = lamodel("--help")
     assert res.returncode == 0
@@ -44,6 +47,7 @@ def test_help_lists_the_commands():
         assert name in res.stdout
 
 
+@pytest.mark.slow
 def test_solve_build_compare_through_the_console_script(tmp_path):
     dat = tmp_path / "stack.dat"
     spec = tmp_path / "stack.json"
@@ -65,6 +69,7 @@ def test_solve_build_compare_through_the_console_script(tmp_path):
     (("build", "nowhere.json"), "lamodel build: error: ", "nowhere.json"),
     (("frobnicate",), "lamodel: error: ", "invalid choice"),
 ])
+@pytest.mark.slow
 def test_bad_input_is_one_line_exit_2(args, prefix, text):
     res = lamodel(*args)
     lines = res.stderr.strip().splitlines()

@@ -90,7 +90,7 @@ def announced(name, real):
 for name in ("rename", "replace", "link", "unlink", "rmdir", "mkdir", "fsync"):
     setattr(os, name, announced(name, getattr(os, name)))
 sys.path.insert(0, os.environ["LAMODEL_ROOT"])
-import lamodel.io.files as files
+import lamodel.output.folder as files
 if os.environ.get("FALLBACK"):
     import errno
     def no_exchange(a, b):
@@ -205,6 +205,7 @@ def kill_after(setup, folder, seconds):
     p.wait(timeout=120)
 
 
+@pytest.mark.slow
 def test_kill_9_at_every_step_leaves_the_old_or_the_new_set(kill_setup):
     setup, root = kill_setup, kill_setup["root"]
 
@@ -233,10 +234,11 @@ def test_kill_9_at_every_step_leaves_the_old_or_the_new_set(kill_setup):
     assert leftovers(stale[0]) == []
 
 
+@pytest.mark.slow
 def test_kill_9_without_an_atomic_exchange_loses_nothing(kill_setup):
     """Where two folders cannot be exchanged in one step, the old folder is renamed aside
     first: a kill right then leaves it aside, and the next run for the folder puts it back."""
-    from lamodel.io.files import ResultFolder
+    from lamodel.output.folder import ResultFolder
     from lamodel.output.results import foreign_files
     setup, root = kill_setup, kill_setup["root"]
     # from the flush of the staged folder (the last step on a hidden folder's path before
@@ -265,6 +267,7 @@ def stack2(tmp_path):
 
 @pytest.mark.parametrize("case", ["out unwritable", "plot unwritable", "plot in a missing folder",
                                   "unknown picture format"])
+@pytest.mark.slow
 def test_output_places_are_checked_before_solving(tmp_path, stack2, case):
     out = tmp_path / "out"
     args = {"out unwritable": ["--out", "/proc/lamodel-out"],
@@ -277,6 +280,7 @@ def test_output_places_are_checked_before_solving(tmp_path, stack2, case):
     assert not out.exists() and not (tmp_path / "missing").exists(), "nothing may be written"
 
 
+@pytest.mark.slow
 def test_a_users_files_in_the_folder_are_kept_and_a_users_folder_refused(tmp_path, stack2):
     out = tmp_path / "out"
     out.mkdir()
@@ -291,6 +295,7 @@ def test_a_users_files_in_the_folder_are_kept_and_a_users_folder_refused(tmp_pat
 
 
 # --------------------------------------------------------- 3. the name chooses no path
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["absolute", "parent"])
 def test_json_name_never_leaves_results(tmp_path, kind):
     work = tmp_path / "work"
@@ -308,6 +313,7 @@ def test_json_name_never_leaves_results(tmp_path, kind):
 
 
 # ----------------------------------------------------------------------- 4. UTF-8 input
+@pytest.mark.slow
 def test_invalid_utf8_is_bad_input_naming_the_file(tmp_path):
     spec = json.dumps(dict(stack_spec(2), description="ma\u00e7onnerie"), ensure_ascii=False).encode("utf-8")
     bad_json = tmp_path / "latin1.json"
@@ -319,6 +325,7 @@ def test_invalid_utf8_is_bad_input_naming_the_file(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_a_utf8_byte_order_mark_is_accepted(tmp_path):
     bom = b"\xef\xbb\xbf"
     js = tmp_path / "bom.json"
@@ -334,6 +341,7 @@ def test_a_utf8_byte_order_mark_is_accepted(tmp_path):
 
 
 # ------------------------------------------------------------------------ 5. the umask
+@pytest.mark.slow
 def test_outputs_follow_the_umask(tmp_path, stack2):
     out, picture, dat = tmp_path / "out", tmp_path / "elsewhere.png", tmp_path / "s.dat"
     p = solve(stack2, "--out", out, *QUICK, "--quiet", umask=0o027)
@@ -348,6 +356,7 @@ def test_outputs_follow_the_umask(tmp_path, stack2):
 
 
 # ---------------------------------------------------------- 6. no stale picture
+@pytest.mark.slow
 def test_no_plot_leaves_no_stale_picture(tmp_path, stack2):
     out = tmp_path / "out"
     assert solve(stack2, "--out", out, *QUICK, "--quiet").returncode == 0
@@ -359,6 +368,7 @@ def test_no_plot_leaves_no_stale_picture(tmp_path, stack2):
     assert Results.read(out).instance == "stack3"
 
 
+@pytest.mark.slow
 def test_files_named_inside_the_folder_are_part_of_the_set(tmp_path, stack2):
     """A picture, report or animation written into the result folder belongs to its set:
     the next run replaces them with the rest (none is left stale, none makes it refuse)."""
@@ -375,6 +385,7 @@ def test_files_named_inside_the_folder_are_part_of_the_set(tmp_path, stack2):
 
 
 # ------------------------------------------------------------ 7. -0 and empty ids
+@pytest.mark.slow
 def test_mu_zero_reports_alpha_zero_not_minus_zero(tmp_path):
     path = write_json(tmp_path / "mu0.json", stack_spec(1, mu=0.0))
     out = tmp_path / "out"
@@ -389,6 +400,7 @@ def test_mu_zero_reports_alpha_zero_not_minus_zero(tmp_path):
     assert Results.read(out).alpha == 0.0
 
 
+@pytest.mark.slow
 def test_an_empty_block_id_is_rejected_naming_the_file(tmp_path):
     spec = stack_spec(2)
     spec["blocks"][2]["id"] = ""
@@ -399,6 +411,7 @@ def test_an_empty_block_id_is_rejected_naming_the_file(tmp_path):
 
 
 # ----------------------------------------------------- 8. warnings reach stderr, always
+@pytest.mark.slow
 def test_quiet_keeps_warnings_that_change_the_answer(tmp_path):
     spec = stack_spec(2)
     spec["live_laod"] = spec.pop("live_load")
@@ -411,12 +424,14 @@ def test_quiet_keeps_warnings_that_change_the_answer(tmp_path):
 
 
 # ------------------------------------------------------------------------ 9. --starts
+@pytest.mark.slow
 def test_starts_help_says_what_it_does():
     p = solve("--help")
     text = " ".join(p.stdout.split())
     assert "K Ipopt solves" in text and "why it was skipped" in text and "fewer" in text, text
 
 
+@pytest.mark.slow
 def test_runs_has_a_row_for_every_requested_start(tmp_path):
     out = tmp_path / "out"
     p = solve(INSTANCES / "wall33.dat", "--out", out, "--starts", "3", "--no-plot", "--quiet", "--workers", "1")
@@ -443,6 +458,7 @@ def row_of_blocks(n, N, modes, name="row"):
     return Results.from_frames(summary, blocks, contacts, runs)
 
 
+@pytest.mark.slow
 def test_compare_shows_the_force_difference_in_short_lines(tmp_path):
     n = 30
     rng = np.random.default_rng(1)
@@ -460,6 +476,7 @@ def test_compare_shows_the_force_difference_in_short_lines(tmp_path):
     assert f"N at contact c{k + 1}" in row, row
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("change", ["one block less", "other ids"])
 def test_compare_says_when_the_structures_differ(tmp_path, change):
     n = 6

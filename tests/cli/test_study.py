@@ -11,6 +11,8 @@ import pytest
 
 from conftest import INSTANCES, ROOT
 
+pytestmark = pytest.mark.slow  # every test starts processes or a cluster
+
 #: columns that are the science of a variant (not where or how long it ran)
 SCIENCE = ["mu", "alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "status", "ga_seed"]
 

@@ -58,6 +58,7 @@ def _body(con):
     return pe.value(con.body) - pe.value(con.upper) if con.equality else pe.value(con.body)
 
 
+@pytest.mark.slow
 def test_model_rows_agree_with_numpy_matrices(wall33):
     """Two writings of eq. (1)-(5): Pyomo expressions and the sparse matrices of Structure."""
     s = wall33

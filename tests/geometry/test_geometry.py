@@ -138,6 +138,7 @@ def test_wall_with_an_opening():
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.lists(st.sampled_from([0.25, 0.5, 0.75, 1.0, 1.5]), min_size=1, max_size=6),
                 min_size=1, max_size=6))
+@pytest.mark.slow
 def test_random_walls_match_interval_count(rows):
     """Any stack of courses of equal length: contacts = brute-force interval count."""
     length = 4.0
@@ -369,6 +370,7 @@ def test_overhanging_block_is_at_the_hinge_limit():
     assert np.isclose(abs(M), -s.d[0] * N)
 
 
+@pytest.mark.slow
 def test_wall_equilibrium_is_solvable():
     s = structure_from_json(seed_wall(6))
     A = equilibrium_matrix(s).toarray()
@@ -445,12 +447,30 @@ def test_unknown_fields_only_warn():
         structure_from_json({"mu": 0.5, "description": "known", "blocks": [dict(SQ, description="x"), ground()]})
 
 
-def test_generated_structures_validate():
-    for spec in (seed_wall(6), arch(), portal(), arch(angle=140, impost_height=0), portal(angle=150, pier_blocks=1)):
-        structure_from_json(spec).validate()
+@pytest.mark.parametrize("spec, blocks, supports", [
+    (seed_wall(6), 33, ["ground"]),
+    (arch(), 13 + 2, ["ground"]),
+    (portal(), 11 + 2 * 2, ["ground"]),
+    (arch(angle=140, impost_height=0), 13, ["support_left", "support_right"]),
+    (portal(angle=150, pier_blocks=1), 11 + 2, ["ground"]),
+])
+def test_generated_structures_validate(spec, blocks, supports):
+    s = structure_from_json(spec).validate()
+    assert s.n_blocks == blocks and sorted(s.supports) == supports
+    assert (s.dead[:, 1] < 0).all() and (s.d > 0).all()  # every block has weight, every joint a length
+    # every block rests, through a chain of joints, on a support
+    reached, frontier = set(s.supports), set(s.supports)
+    while frontier:
+        frontier = {b for a, b in zip(s.block_a, s.block_b) if a in frontier and b not in reached} | \
+                   {a for a, b in zip(s.block_a, s.block_b) if b in frontier and a not in reached}
+        reached |= frontier
+    assert reached >= set(s.blocks)
+    if blocks == 33:
+        assert s.n_contacts == 83  # the seed's panel, as instances/wall33.dat
 
 
 # ============================================================== the build script
+@pytest.mark.slow
 def test_build_instance_script(tmp_path):
     from conftest import run_script
 

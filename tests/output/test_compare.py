@@ -124,6 +124,7 @@ def script(*args):
                           cwd=REPO, timeout=120)
 
 
+@pytest.mark.slow
 def test_script_exit_codes(tmp_path):
     a = toy().write(tmp_path / "a")
     b = toy(alpha=0.65).write(tmp_path / "b")
@@ -135,6 +136,7 @@ def test_script_exit_codes(tmp_path):
     assert "alpha" in diff.stdout
 
 
+@pytest.mark.slow
 def test_script_garbage_summary_is_one_line_error(tmp_path):
     a = toy().write(tmp_path / "a")
     b = toy().write(tmp_path / "b")
@@ -148,6 +150,7 @@ def test_script_garbage_summary_is_one_line_error(tmp_path):
     assert "Traceback" not in res.stderr and res.stdout == ""
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", ["missing folder", "non-numeric alpha", "missing file", "bad atol"])
 def test_script_bad_input_exit_2(tmp_path, case):
     a = toy().write(tmp_path / "a")

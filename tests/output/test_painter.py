@@ -30,6 +30,7 @@ def rocking(s):
     return dict(u=u, alpha=0.5, certified=True)
 
 
+@pytest.mark.slow
 def test_helper_draws_the_same_file_as_in_process(wall, tmp_path):
     here, there = tmp_path / "here.png", tmp_path / "there.png"
     plot_mechanism(wall, path=str(here), **rocking(wall))
@@ -41,6 +42,7 @@ def test_helper_draws_the_same_file_as_in_process(wall, tmp_path):
     assert there.read_bytes() == here.read_bytes()
 
 
+@pytest.mark.slow
 def test_error_in_the_helper_is_raised_here(wall, tmp_path):
     with Painter() as p:
         with pytest.raises(InputError, match="contact modes"):
@@ -48,6 +50,7 @@ def test_error_in_the_helper_is_raised_here(wall, tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+@pytest.mark.slow
 def test_without_a_helper_the_picture_is_drawn_here(wall, tmp_path, monkeypatch):
     def no_python(*args, **kwargs):
         raise OSError("no such interpreter")
@@ -58,6 +61,7 @@ def test_without_a_helper_the_picture_is_drawn_here(wall, tmp_path, monkeypatch)
     assert (tmp_path / "a.png").stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_a_helper_that_dies_is_replaced_by_drawing_here(wall, tmp_path):
     with Painter() as p:
         p._proc.kill()
@@ -66,6 +70,7 @@ def test_a_helper_that_dies_is_replaced_by_drawing_here(wall, tmp_path):
     assert (tmp_path / "b.png").stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_helper_with_nothing_to_draw_exits(tmp_path):
     """A run that ends before its picture (bad input, Ctrl-C) closes the helper's input:
     it exits without a traceback."""

@@ -87,6 +87,7 @@ def pixels(structure, u, path, **kw):
     return mpimg.imread(str(path))
 
 
+@pytest.mark.slow
 def test_picture_changes_with_the_mechanism(wall, tmp_path):
     rng = np.random.default_rng(1)
     still = pixels(wall, np.zeros((wall.n_blocks, 3)), tmp_path / "still.png")
@@ -172,6 +173,7 @@ def test_title(wall, certified, text):
     plt.close(fig)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ext, magic", [("png", b"\x89PNG"), ("svg", b"<?xml"), ("pdf", b"%PDF")])
 def test_format_follows_the_extension(wall, tmp_path, ext, magic):
     path = tmp_path / f"m.{ext}"
@@ -181,6 +183,7 @@ def test_format_follows_the_extension(wall, tmp_path, ext, magic):
     assert path.read_bytes().startswith(magic)
 
 
+@pytest.mark.slow
 def test_blocks_without_polygons_are_drawn_as_centroids(tmp_path):
     """A structure read from a .dat file may carry no polygons: only centroid markers."""
     s = structure_from_json(seed_wall(6))

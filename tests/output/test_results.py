@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import lamodel.io.files as files_mod
+import lamodel.output.folder as files_mod
 from lamodel.errors import InputError
 from lamodel.output.results import (BLOCK_COLUMNS, CONTACT_COLUMNS, MODES, RUN_COLUMNS, SUMMARY_COLUMNS,
                              Results)

@@ -1,0 +1,40 @@
+"""The argument types of the command line: whole numbers, seeds, seconds, tolerances and
+lists of numbers, each refused in one line that says what was expected."""
+from __future__ import annotations
+
+import argparse
+
+
+def number(kind, check, expected: str):
+    """An argparse type: ``kind(text)`` when ``check`` accepts it, else one line naming
+    what was ``expected``."""
+    def parse(text):
+        try:
+            if check(value := kind(text)):
+                return value
+        except (ValueError, OverflowError):
+            pass
+        raise argparse.ArgumentTypeError(f"expected {expected}, got '{text}'")
+    parse.__name__ = expected
+    return parse
+
+
+def whole(minimum: int, maximum: int | None = None):
+    """An argparse type: a whole number in [minimum, maximum]."""
+    top = f" and < 2**{maximum.bit_length()}" if maximum else ""
+    return number(int, lambda v: v >= minimum and (maximum is None or v <= maximum), f"a whole number >= {minimum}{top}")
+
+
+#: A GA seed: numpy's generators take seeds >= 0, summary.csv stores a 64-bit integer.
+SEED = whole(0, 2**63 - 1)
+#: A time limit.
+seconds = number(float, lambda v: 0 < v < float("inf"), "a number of seconds > 0")
+#: A comparison tolerance.
+tolerance = number(float, lambda v: 0 <= v < float("inf"), "a finite tolerance >= 0")
+
+
+def numbers(count: int | None = None, what: str = "comma-separated numbers"):
+    """An argparse type: finite numbers separated by commas (``count`` of them, if given)."""
+    split = lambda t: [float(x) for x in t.replace(" ", "").split(",") if x != ""]  # noqa: E731
+    finite = lambda v: v and all(abs(x) < float("inf") for x in v) and (count is None or len(v) == count)  # noqa: E731
+    return number(split, finite, what)

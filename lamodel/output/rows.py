@@ -1,0 +1,31 @@
+"""One solve as one row of a study's table: the certified multiplier, the associative
+bound and how the mechanism's contacts move."""
+from __future__ import annotations
+
+import numpy as np
+
+from .modes import modes_from_flow
+
+
+def mode_counts(structure, xi) -> dict:
+    """Contacts that slip (modes sliding, sliding+hinging), rotate (hinging,
+    sliding+hinging) and open, in a mechanism's flow xi."""
+    modes = modes_from_flow(structure, xi)
+    return {"n_sliding": sum(m in ("sliding", "sliding+hinging") for m in modes),
+            "n_hinging": sum(m in ("hinging", "sliding+hinging") for m in modes),
+            "n_open": sum(m == "open" for m in modes)}
+
+
+def outcome_row(outcome) -> dict:
+    """The certified multiplier (NaN if none), the associative bound and the mechanism's
+    mode counts of a :class:`lamodel.search.driver.Outcome`."""
+    best = outcome.best
+    row = {"alpha_c": best.alpha if best is not None else np.nan,
+           "alpha_associative": outcome.alpha_associative,
+           "certified": best is not None}
+    if best is not None:
+        row.update(mode_counts(outcome.structure, best.xi))
+    else:
+        row.update(n_sliding=0, n_hinging=0, n_open=0)
+    row.update(seconds=outcome.wall_time_s, status=outcome.status)
+    return row

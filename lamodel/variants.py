@@ -1,0 +1,62 @@
+"""Variants of a structure: copies with another friction coefficient, an added dead force,
+a rotated live load or scaled blocks (what a study varies, :mod:`lamodel.parametric`).
+
+Every variant is a deep copy; the structure passed in is never modified.
+"""
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+
+from .errors import InputError
+from .structure import Structure
+
+
+def with_friction(structure: Structure, mu: float) -> Structure:
+    """A copy of the structure with the friction coefficient mu on every contact."""
+    mu = float(mu)
+    if not np.isfinite(mu) or mu < 0:
+        raise InputError(f"friction coefficient {mu}: expected a finite number >= 0")
+    s = copy.deepcopy(structure)
+    s.mu = np.full(s.n_contacts, mu)
+    s.name = f"{structure.name}_mu{mu:g}"
+    return s
+
+
+def with_dead_force(structure: Structure, block: str, fx: float = 0.0, fy: float = 0.0,
+                    name: str | None = None) -> Structure:
+    """A copy of the structure with a constant force (fx, fy) added at the centroid of
+    ``block`` to its dead load f0 (e.g. a tie force found by a user's study)."""
+    index = structure.block_index()
+    if block not in index:
+        raise InputError(f"structure '{structure.name}': no movable block '{block}'; expected one of "
+                         f"{', '.join(structure.blocks[:8])}{', ...' if structure.n_blocks > 8 else ''}")
+    s = copy.deepcopy(structure)
+    s.dead[index[block]] += (float(fx), float(fy))
+    s.name = name or f"{structure.name}_{block}_force"
+    return s
+
+
+def with_load_angle(structure: Structure, degrees: float) -> Structure:
+    """A copy with every live force rotated by ``degrees`` counter-clockwise."""
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    out = copy.deepcopy(structure)
+    out.live = structure.live @ np.array([[c, s], [-s, c]])
+    return out
+
+
+def with_block_sizes(structure: Structure, factors) -> Structure:
+    """A copy with block j's size scaled by factors[j] in place: its weight and live force
+    scale with its area (factor squared), each joint's half-length with the smaller factor
+    of its two bodies (supports do not change); positions are kept."""
+    f = np.asarray(factors, dtype=float)
+    out = copy.deepcopy(structure)
+    out.dead = structure.dead * (f ** 2)[:, None]
+    out.live = structure.live * (f ** 2)[:, None]
+    ia, ib = structure.contact_blocks()
+    fa = np.where(ia >= 0, f[ia], np.inf)
+    fb = np.where(ib >= 0, f[ib], np.inf)
+    out.d = structure.d * np.minimum(fa, fb)
+    return out
