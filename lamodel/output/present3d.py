@@ -114,9 +114,25 @@ def refuse_spatial_options(inputs, view):
 
 def _solve(s, method, options, stop):
     """(Result3D kept in the folder, runs table, methods table or None, the method kept)."""
+    from tqdm import tqdm
+    # one line on stderr, on a terminal only (as in the plane): the best certified alpha so far
+    bar = tqdm(desc="3D search", disable=None if options.progress else True, leave=False,
+               bar_format="{desc} [{elapsed}{postfix}]")
+
+    def on_best(alpha, path):
+        bar.set_postfix_str(f"best certified alpha {alpha:.6f}", refresh=True)
+    kw = dict(time_limit=options.time_limit, seed=int(options.seed), threads=options.workers or 1, stop=stop,
+              on_best=on_best)
+    try:
+        return _run_methods(s, method, kw)
+    finally:
+        bar.close()
+
+
+def _run_methods(s, method, kw):
+    """The solves of ``method`` (solve3d's keywords ``kw``); what :func:`_solve` returns."""
     from ..search.search3d import solve3d
     from .results3d import methods_frame3d, runs_frame
-    kw = dict(time_limit=options.time_limit, seed=int(options.seed), threads=options.workers or 1, stop=stop)
     runs, done, iterations = [], {}, {}
     for m in (["associative", "lamodel"] if method == "all" else [method]):
         which, explore = METHODS3D[m]
@@ -139,7 +155,7 @@ def _solve(s, method, options, stop):
 
 
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,
-              animate=None, moving=(None, None, None), view=None, echo=None, command=None, source=None):
+              animate=None, moving=(None, None, None), view=None, echo=None):
     """Solve a :class:`lamodel.structure3d.Structure3D` and write its result folder (see the
     module doc); what :func:`lamodel.analyse` does for a 3D input. ``view``: a .html path
     for the browser view (inside ``out`` it is part of the folder). Returns an

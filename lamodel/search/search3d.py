@@ -121,8 +121,9 @@ class ConeSearch:
     """The 3D search on one structure (non-dimensional inside); see the module doc."""
 
     def __init__(self, structure: Structure3D, time_limit: float | None = None, verbose: bool = False,
-                 threads: int = 1, stop=None):
+                 threads: int = 1, stop=None, on_best=None):
         self.user = structure
+        self.on_best = on_best   # a callable (alpha, source) told of each improvement
         self.t0 = time.perf_counter()
         self.end = None if time_limit is None else self.t0 + float(time_limit)
         self.stop = stop   # a callable: True ends the search (a signal), the best state kept
@@ -284,6 +285,8 @@ class ConeSearch:
                 self.first = (st.alpha, t)
                 self.solves_at_first = self.cone.n_solves
             self.history.append((t, st.alpha, st.source))
+            if self.on_best is not None:
+                self.on_best(user.alpha, st.source)
             self._log(f"  certified alpha {st.alpha:.7f}  {st.source}")
         return True
 
@@ -417,7 +420,7 @@ class ConeSearch:
 
 def solve3d(structure: Structure3D, method: str = "all", time_limit: float | None = None,
             explore: bool = True, patience: int | None = None, seed: int = 0, verbose: bool = False,
-            threads: int = 1, stop=None) -> Result3D:
+            threads: int = 1, stop=None, on_best=None) -> Result3D:
     """Least certified collapse multiplier of a 3D block assembly on the Coulomb cone.
 
     ``method``: 'gap' (the gap alternation), 'successive' (the successive cone method),
@@ -428,7 +431,8 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
     perturbations of the best cohesions (random, from ``seed``), until ``patience`` cone
     programs pass without improvement (default: PATIENCE times those to the first
     certificate, PATIENCE_MIN at least) or ``time_limit``, or until ``stop()`` is true (then the
-    status is 'interrupted', the best certified state kept). Returns a :class:`Result3D`: alpha, the
+    status is 'interrupted', the best certified state kept); ``on_best(alpha, path)`` is told of
+    each better certified state. Returns a :class:`Result3D`: alpha, the
     certified statics (N, T1, T2 per point), block motions (nb, 6), per-point modes
     (stuck / opening / sliding) and the path that certified it, all in the user's units;
     ``methods`` gives each method's raw alpha, its own certified alpha and path (``own``,
@@ -441,7 +445,8 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
             from ..errors import InputError
             raise InputError(f"method '{m}' is not a 3D method; expected one of all, {', '.join(METHODS)}, "
                              f"{ASSOCIATIVE}")
-    eng = ConeSearch(structure, time_limit=time_limit, verbose=verbose, threads=threads, stop=stop)
+    eng = ConeSearch(structure, time_limit=time_limit, verbose=verbose, threads=threads, stop=stop,
+                     on_best=on_best)
     eng.patience = patience
     assoc = eng.associative()
     out = Result3D(status="none certified", state=None, associative=assoc.alpha if assoc.ok else np.nan,
