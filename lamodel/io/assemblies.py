@@ -173,7 +173,7 @@ def read_3d_json(path, **options):
     reader, which also reports malformed JSON)."""
     try:
         data = json.loads(read_text(path, "JSON geometry file"))
-    except (json.JSONDecodeError, InputError):
+    except (json.JSONDecodeError, InputError, RecursionError):  # the planar reader reports them
         return None
     if is_compas(data):
         return read_compas(data, name=Path(path).stem, where=str(path), **options)
