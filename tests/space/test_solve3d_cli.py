@@ -215,3 +215,16 @@ def test_the_time_limit_and_the_seed_are_honoured_and_recorded(tmp_path):
     assert "no certified collapse multiplier" in a.line()
     b = lamodel.analyse(spec, lamodel.SolveOptions(seed=7), tmp_path / "r", picture=False)
     assert b.certified and pd.read_csv(tmp_path / "r" / "summary.csv").seed[0] == 7
+
+
+def test_the_words_name_a_sliding_block_and_a_turning_one(tmp_path):
+    import lamodel
+    squat = lamodel.analyse(write(tmp_path, "squat.json", block_spec(2.0, 2.0, 0.2, live=(1.0, 0.0, 0.0))),
+                            lamodel.SolveOptions(), tmp_path / "squat", picture=False)
+    assert squat.alpha == pytest.approx(0.6, abs=1e-9)                      # slides at alpha = mu
+    assert "(1 block: B) translates along +x" in squat.text()
+    assert "Sliding interfaces (1): ground|B" in squat.text() and "Opening" not in squat.text()
+    tall = lamodel.analyse(write(tmp_path, "tall.json", block_spec()), lamodel.SolveOptions(), tmp_path / "tall",
+                           picture=False)
+    assert "(1 block: B) turns about the axis -x through (0, 0.25, 0)" in tall.text()   # about its toe
+    assert "Opening interfaces (1): ground|B" in tall.text()
