@@ -4,13 +4,21 @@
     python benchmarks/solve3d.py                        # every case
     python benchmarks/solve3d.py --cases bond32-oop     # one case
     python benchmarks/solve3d.py --method gap --time-limit 120
+    python benchmarks/solve3d.py --cases box1000,armadillo --compas DIR   # DIR holds armadillo.json
 
 Cases: ``bondC-oop`` — a running-bond wall of C courses (from the bottom 1/2 + 24 + 1/2 and
 25 full blocks of 4 x 1.75, mu 0.65, as the planar benchmark's ``bondC``; bond32: 816
 blocks) extruded to a depth of 1 and loaded out of plane (live load along the depth, equal
 to each block's weight): it overturns as a whole, alpha = depth / height. ``wall33`` and
 ``wall55`` (the seed's walls) extruded, loaded in plane (the planar alpha of the first
-certificate), out of plane (``-oop``) and at 45 degrees between (``-diag``). Columns: blocks, contact points, the
+certificate), out of plane (``-oop``) and at 45 degrees between (``-diag``). ``box1000``: the
+one-room box building of :func:`lamodel.geometry.box_building` (7.6 x 5.6, 16 courses of
+0.4 x 0.2 x 0.2 blocks: 1,005 blocks, a door and three windows with lintels), mu 0.6, live
+load along +x equal to each block's weight. ``armadillo``: compas_cra's Armadillo vault
+(399 blocks, ``armadillo.json`` from the folder given with ``--compas``; supports: the 33
+blocks below z = 0.5, those compas_cra's ``armadillo_cra.json`` flags; tolerance 1e-4) under self-weight
+(unit weight 1) plus a horizontal load along +x equal to each block's weight, mu 0.6.
+Columns: blocks, contact points, the
 associative bound and the time of its cone program, the first certified alpha and its time,
 the best certified alpha, the whole time, cone programs and LPs solved, and the closed form
 where one applies.
@@ -31,12 +39,23 @@ COURSE = 1.75
 DEFAULT = ("wall33", "wall33-oop", "wall33-diag", "wall55", "wall55-oop", "wall55-diag", "bond32-oop")
 
 
-def build(case: str):
-    """(Structure3D, closed-form alpha or nan) of a case name."""
+def build(case: str, compas=None):
+    """(Structure3D, closed-form alpha or nan) of a case name; ``compas``: the folder of
+    the COMPAS samples (armadillo.json)."""
     from lamodel.formulation.extrude import extrude
-    from lamodel.geometry import running_bond_wall, seed_wall
+    from lamodel.geometry import box_building, running_bond_wall, seed_wall
     from lamodel.io.jsonspec import structure_from_json
     name, _, load = case.partition("-")
+    if name == "box1000":
+        from lamodel.io.json3d import structure3d_from_spec
+        return structure3d_from_spec(box_building(length=7.6, width=5.6, courses=16)), np.nan
+    if name == "armadillo":
+        if compas is None:
+            raise SystemExit("case armadillo: give the folder holding armadillo.json with --compas DIR")
+        from lamodel.io.assemblies import read_compas
+        # the 33 blocks below z = 0.5 are the supports (those compas_cra's armadillo_cra.json
+        # flags); at the default tolerance 151 of its joints are missed and the vault is unstable
+        return read_compas(Path(compas) / "armadillo.json", supports_below=0.5, tolerance=1e-4), np.nan
     if name in ("wall33", "wall55"):
         courses = 6 if name == "wall33" else 10
         s2 = structure_from_json(seed_wall(courses))
@@ -62,6 +81,7 @@ def main(argv=None):
     ap.add_argument("--cases", default=",".join(DEFAULT))
     ap.add_argument("--method", default="all", choices=("all", "gap", "successive"))
     ap.add_argument("--time-limit", type=float, default=None)
+    ap.add_argument("--compas", metavar="DIR", help="folder of the COMPAS samples (armadillo.json)")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args(argv)
     from lamodel.search.search3d import solve3d
@@ -71,7 +91,7 @@ def main(argv=None):
     print("-" * len(head))
     for case in a.cases.split(","):
         t = time.perf_counter()
-        s, closed = build(case)
+        s, closed = build(case, a.compas)
         t_build = time.perf_counter() - t
         r = solve3d(s, method=a.method, time_limit=a.time_limit, verbose=a.verbose)
         print(f"{case:12s} {s.n_blocks:6d} {s.n_points:6d} {r.associative:9.6f} {r.associative_time:7.2f} "

@@ -40,7 +40,8 @@ def _solve_arguments(p):
     from .search.methods import CHOICES, SEED_GENERATIONS, SEED_POP_SIZE
     from .search.options import SOLVERS, SolveOptions
     a, o = p.add_argument, SolveOptions
-    a("instance", help="a Pyomo .dat instance or a JSON polygon geometry")
+    a("instance", help="a Pyomo .dat instance or a JSON polygon geometry; in 3D: a JSON of polyhedra, a COMPAS "
+      "assembly or a mesh (.obj, .ply, .stl, .gltf, .glb)")
     a("--out", help="result folder, replaced as a whole (default: results/<instance name>/); a folder holding folders "
       "or links lamodel did not write is refused (a user's files in it are kept)")
     a("--seed", type=SEED, default=o.seed, help="random seed of the GA (default 0)")
@@ -69,9 +70,14 @@ def _solve_arguments(p):
     a("--axles", metavar="D1,D2,...", type=numbers(), help="offsets of the axles from the lead axle (default 0)")
     a("--positions", metavar="X1,X2,...", type=numbers(), help="positions of the lead axle (default: the file's, "
       "else the midpoints of the top edges)")
+    a("--view", metavar="FILE.html", help="3D: one self-contained HTML file in which to turn the structure and its "
+      "mechanism")
+    from .io.options3d import add_input_arguments
+    add_input_arguments(p)
 
 
 def _solve(args, prog) -> int:
+    from .io.options3d import input_options
     from .output.present import analyse
     from .search.options import SolveOptions
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, ga_workers=args.workers,
@@ -81,6 +87,7 @@ def _solve(args, prog) -> int:
     a = analyse(args.instance, options, args.out, method=args.method, seed_ga=(args.pop_size, args.generations),
                 picture=False if args.no_plot else (args.plot or True), report=args.report, animate=args.animate,
                 rolling=args.rolling, axles=args.axles, positions=args.positions, echo=None if args.quiet else _say,
+                view=args.view, inputs=input_options(args),
                 warn=lambda message: print(f"{prog}: warning: {message}", file=sys.stderr),
                 command=" ".join([prog.split()[0], *sys.argv[1:]]), prove=args.prove)
     print(a.text(quiet=args.quiet))

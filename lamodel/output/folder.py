@@ -17,22 +17,22 @@ import shutil
 import stat
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, OutputError
 from ..io.files import check_writable_folder, fsync_path
 
 #: The four tables of a result folder (:mod:`lamodel.output.results`), by name.
 TABLE_FILES = {"summary": "summary.csv", "blocks": "blocks.csv", "contacts": "contacts.csv", "runs": "runs.csv"}
 
-#: The files of a result folder. The picture, the HTML report and the animation, when
-#: written into it, are named in summary.csv's columns ``picture``, ``report`` and
-#: ``animation`` (by the command line); ``mechanism.*`` is the picture's default name.
+#: The files of a result folder. The picture, the HTML report, the animation and the 3D
+#: browser view, when written into it, are named in summary.csv's columns ``picture``,
+#: ``report``, ``animation`` and ``view`` (by the command line); ``mechanism.*`` is the picture's default name.
 RESULT_FILES = tuple(TABLE_FILES.values())
 #: What ``lamodel solve`` writes beside them for --method all, load cases, rolling loads.
 COMPANION_FILES = ("methods.csv", "cases.csv", "rolling.csv", "rolling.png")
 PICTURE_STEM = "mechanism"
 _PICTURE_EXTENSIONS = {"png", "svg", "svgz", "pdf", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf",
                        "raw", "rgba", "gif", "avif"}  # matplotlib's formats
-_RECORDED = {"picture": _PICTURE_EXTENSIONS, "report": {"html", "htm"}, "animation": {"gif"}}
+_RECORDED = {"picture": _PICTURE_EXTENSIONS, "report": {"html", "htm"}, "animation": {"gif"}, "view": {"html", "htm"}}
 _LEFTOVER = re.compile(r"^\.(?P<name>.+)\.[^.]+\.(tmp|bak)$")  # temporary files of older lamodel versions
 
 
@@ -224,6 +224,13 @@ class ResultFolder:
             shutil.rmtree(old, ignore_errors=True)
         fsync_path(self.parent)
         return self.shown
+
+    def publish(self) -> str:
+        """:meth:`commit`, a failure to write being an OutputError (one line)."""
+        try:
+            return self.commit()
+        except OSError as exc:
+            raise OutputError(exc.errno, f"cannot write the results to {self.shown}: {exc.strerror or exc}") from None
 
     def discard(self):
         """Remove the staging folder unless it was committed (a failed or interrupted run)."""

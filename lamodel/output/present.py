@@ -20,7 +20,7 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, OutputError
+from ..errors import InputError
 
 
 @dataclass
@@ -88,7 +88,7 @@ class Analysis:
 
 def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=None, picture=True,
             report=None, animate=None, rolling=None, axles=None, positions=None, echo=None, warn=None,
-            command: str | None = None, prove: float | None = None) -> Analysis:
+            command: str | None = None, prove: float | None = None, view=None, inputs: dict | None = None):
     """Read a structure, solve it, write its result folder and its pictures: what
     ``lamodel solve`` does, with the same files and words.
 
@@ -108,6 +108,12 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     ``prove``: seconds for the proven lower bound ``alpha_lower`` in summary.csv
     (:func:`lamodel.bound.lower_bound`; default a share of the search's own time).
 
+    A 3D input (a 3D JSON, a COMPAS assembly, a mesh, or a Structure3D) is solved in space
+    (:func:`lamodel.output.present3d.analyse3d`, an :class:`~lamodel.output.present3d.Analysis3D`
+    is returned): ``inputs`` are the 3D readers' options (mu, unit_weight, live_load,
+    supports, supports_below, units, tolerance, contact_points) and ``view`` a .html path
+    for the browser view.
+
     Every output place is checked before solving (InputError, one line). A signal that
     stops the search (Ctrl-C, SIGTERM, SIGHUP) still writes the best certified state
     (:attr:`Analysis.interrupted`). :class:`lamodel.errors.OutputError` when the folder
@@ -123,19 +129,19 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         painter = Painter()
     try:
         return _analyse(source, options, out, method, seed_ga, picture, report, animate,
-                        (rolling, axles, positions), echo, warn, command, painter, prove)
+                        (rolling, axles, positions), echo, warn, command, painter, prove, view, inputs)
     finally:
         if painter is not None:
             painter.close()
 
 
-def _read(source, warn):
+def _read(source, warn, inputs=None):
     from ..io import read
     if not isinstance(source, (str, os.PathLike)):
         return source
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        structure = read(source)
+        structure = read(source, **(inputs or {}))
     for w in caught:  # shown before the solve: they change the answer
         if warn is not None and issubclass(w.category, UserWarning):
             warn(str(w.message))
@@ -145,7 +151,7 @@ def _read(source, warn):
 
 
 def _analyse(source, options, out, method, seed_ga, picture, report, animate, moving, echo, warn, command, painter,
-             prove=None):
+             prove=None, view=None, inputs=None):
     from ..io.files import safe_folder_name
     from ..loads import with_rolling
     from ..search.driver import solve
@@ -153,7 +159,12 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
     from .report import outcome_results
 
-    structure = _read(source, warn)
+    from . import present3d
+    structure = _read(source, warn, inputs)
+    if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
+        return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
+                                   report=report, animate=animate, moving=moving, view=view, echo=echo)
+    present3d.refuse_spatial_options(inputs, view)
     source = str(source) if isinstance(source, (str, os.PathLike)) else structure.name
     structure = with_rolling(structure, *moving, source=source)
     if options.scheduler:
@@ -206,10 +217,7 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
             write_methods_csv(methods, stage.path)
         command = command or f"lamodel.analyse({str(source)!r})"
         write_extras(staged, outcome, results, words, dead_u, study, source, command, painter)
-        try:
-            stage.commit()
-        except OSError as exc:
-            raise OutputError(exc.errno, f"cannot write the results to {out}: {exc.strerror or exc}") from None
+        stage.publish()
     finally:
         stage.discard()
     write_extras(outside, outcome, results, words, dead_u, study, source, command, painter)

@@ -65,13 +65,15 @@ SUCCESSIVE_RELAXATION = 0.5
 LP_FIRST_POINTS = 1500
 SUCCESSIVE_STEPS = 10
 METHODS = ("gap", "successive")
+#: The associative bound's own mechanism certified (a method on its own, not part of 'all').
+ASSOCIATIVE = "associative"
 
 
 @dataclass
 class Result3D:
     """Outcome of :func:`solve3d`; forces and motions in the user's units."""
 
-    status: str                      # 'certified', 'unstable', 'no collapse', 'none certified'
+    status: str                      # 'certified', 'unstable', 'no collapse', 'none certified', 'interrupted'
     state: CollapseState3D | None
     associative: float
     message: str = ""
@@ -119,10 +121,12 @@ class ConeSearch:
     """The 3D search on one structure (non-dimensional inside); see the module doc."""
 
     def __init__(self, structure: Structure3D, time_limit: float | None = None, verbose: bool = False,
-                 threads: int = 1):
+                 threads: int = 1, stop=None, on_best=None):
         self.user = structure
+        self.on_best = on_best   # a callable (alpha, source) told of each improvement
         self.t0 = time.perf_counter()
         self.end = None if time_limit is None else self.t0 + float(time_limit)
+        self.stop = stop   # a callable: True ends the search (a signal), the best state kept
         self.verbose = verbose
         self.F, self.L = scales(structure)
         self.form = Formulation3D.of(scaled(structure, self.F, self.L))
@@ -147,8 +151,12 @@ class ConeSearch:
     def left(self):
         return None if self.end is None else max(self.end - time.perf_counter(), 1e-3)
 
+    def stopped(self) -> bool:
+        """A stop was asked for (Ctrl-C, SIGTERM, SIGHUP, a caller's predicate)."""
+        return self.stop is not None and bool(self.stop())
+
     def expired(self) -> bool:
-        return self.end is not None and time.perf_counter() >= self.end
+        return self.stopped() or (self.end is not None and time.perf_counter() >= self.end)
 
     def _log(self, msg):
         if self.verbose:
@@ -277,6 +285,8 @@ class ConeSearch:
                 self.first = (st.alpha, t)
                 self.solves_at_first = self.cone.n_solves
             self.history.append((t, st.alpha, st.source))
+            if self.on_best is not None:
+                self.on_best(user.alpha, st.source)
             self._log(f"  certified alpha {st.alpha:.7f}  {st.source}")
         return True
 
@@ -410,25 +420,33 @@ class ConeSearch:
 
 def solve3d(structure: Structure3D, method: str = "all", time_limit: float | None = None,
             explore: bool = True, patience: int | None = None, seed: int = 0, verbose: bool = False,
-            threads: int = 1) -> Result3D:
+            threads: int = 1, stop=None, on_best=None) -> Result3D:
     """Least certified collapse multiplier of a 3D block assembly on the Coulomb cone.
 
-    ``method``: 'gap' (the gap alternation), 'successive' (the successive cone method) or
-    'all' (both, the least certified alpha kept); ``explore`` then adds the continuation
+    ``method``: 'gap' (the gap alternation), 'successive' (the successive cone method),
+    'all' (both, the least certified alpha kept) or 'associative' (the associative bound's
+    own mechanism, certified: a collapse state only where it slides without dilatancy);
+    ``explore`` then adds the continuation
     ladders of the gap alternation, a descent from each method's certified state and
     perturbations of the best cohesions (random, from ``seed``), until ``patience`` cone
     programs pass without improvement (default: PATIENCE times those to the first
-    certificate, PATIENCE_MIN at least) or ``time_limit``. Returns a :class:`Result3D`: alpha, the
+    certificate, PATIENCE_MIN at least) or ``time_limit``, or until ``stop()`` is true (then the
+    status is 'interrupted', the best certified state kept); ``on_best(alpha, path)`` is told of
+    each better certified state. Returns a :class:`Result3D`: alpha, the
     certified statics (N, T1, T2 per point), block motions (nb, 6), per-point modes
-    (stuck / opening / sliding) and the path that certified it, all in the user's units.
+    (stuck / opening / sliding) and the path that certified it, all in the user's units;
+    ``methods`` gives each method's raw alpha, its own certified alpha and path (``own``,
+    ``own_path``: before exploring) and the certified alpha after exploring.
     """
     structure.validate()
     methods = METHODS if method == "all" else (method,)
     for m in methods:
-        if m not in METHODS:
+        if m not in METHODS + (ASSOCIATIVE,):
             from ..errors import InputError
-            raise InputError(f"method '{m}' is not a 3D method; expected one of all, {', '.join(METHODS)}")
-    eng = ConeSearch(structure, time_limit=time_limit, verbose=verbose, threads=threads)
+            raise InputError(f"method '{m}' is not a 3D method; expected one of all, {', '.join(METHODS)}, "
+                             f"{ASSOCIATIVE}")
+    eng = ConeSearch(structure, time_limit=time_limit, verbose=verbose, threads=threads, stop=stop,
+                     on_best=on_best)
     eng.patience = patience
     assoc = eng.associative()
     out = Result3D(status="none certified", state=None, associative=assoc.alpha if assoc.ok else np.nan,
@@ -451,10 +469,14 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
         if m == "gap":
             st, x = eng.alternate(assoc.x)
             raw = float(x[-1])
-        else:
+        elif m == "successive":
             st, raw = eng.successive(assoc.x)
+        else:
+            st = eng.certify(assoc.u, ASSOCIATIVE, assoc.x) if assoc.u is not None else None
+            raw = assoc.alpha
         found[m] = st
-        out.methods[m] = {"raw": raw, "certified": np.nan if st is None else st.alpha,
+        own = np.nan if st is None else st.alpha
+        out.methods[m] = {"raw": raw, "certified": own, "own": own, "own_path": "" if st is None else st.source,
                           "seconds": time.perf_counter() - t}
     if explore:
         # then, while they keep improving (see ConeSearch.patience_over): continuation
@@ -472,6 +494,8 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
             found[m] = _least(found[m], step())
             out.methods[m]["certified"] = np.nan if found[m] is None else found[m].alpha
             out.methods[m]["seconds"] += time.perf_counter() - t
+    if eng.stopped():
+        out.status = "interrupted"
     if eng.best is not None and not eng.expired():
         # stable under the dead load alone: some admissible statics has alpha = 0
         low = eng.statics()
@@ -494,7 +518,10 @@ def _finish(eng: ConeSearch, out: Result3D) -> Result3D:
     out.n_cone, out.n_lp = eng.cone.n_solves, eng.n_lp
     if eng.first is not None:
         out.first_alpha, out.first_time = eng.first
-    if out.state is not None:
+    if out.status == "interrupted":
+        out.message = ("stopped by a signal: the best certified state so far" if out.state is not None
+                       else "stopped by a signal before any collapse state was certified")
+    elif out.state is not None:
         out.status = "certified"
         out.message = "least certified collapse multiplier found"
     elif out.status == "none certified" and not out.message:

@@ -1,0 +1,108 @@
+"""The result folder of a solve in space: summary.csv, blocks.csv, contacts.csv, runs.csv
+(and methods.csv for ``--method all``).
+
+* ``summary.csv``: one row (as in the plane): instance, alpha, certified, alpha_associative,
+  status, message, method, path (how the state was found and certified), residual (the
+  largest violation of the residual test, one dimension), n_blocks, n_supports,
+  n_interfaces, n_contacts (contact points), first_alpha, first_time_s, wall_time_s,
+  cone_programs, lps, seed, time_limit, dimension (3), source, mu, unit_weight, live_load
+  (``X Y Z``), defaults_applied (the mechanical data the input lacked, set to lamodel's
+  defaults), length_unit, force_unit, picture, view.
+* ``blocks.csv`` and ``contacts.csv``: :mod:`lamodel.output.tables3d` (centroids, loads and
+  their moments, motions; one row per contact point with its frame, N, T1, T2 and mode).
+  The statics is rebuilt from these two files and alpha alone.
+* ``runs.csv``: one row per method run: run, method, alpha_raw (its own answer),
+  alpha_certified (that answer certified), certified, path (the step that certified it),
+  seconds.
+* ``methods.csv``: the methods side by side, the columns of
+  :data:`lamodel.output.methods.METHOD_COLUMNS`.
+
+Floats are written with 17 significant digits (a round trip is exact).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..io.files import atomic_write
+from ..structure3d import Structure3D
+from .methods import METHOD_COLUMNS
+from .results import FLOAT_FORMAT
+from .tables3d import blocks_table, contacts_table
+
+#: What each method is, in methods.csv's notes.
+NOTES = {
+    "associative": "the associative cone program (an upper bound); its mechanism certified",
+    "gap": "the gap alternation from the associative statics (rho 1e3, 1e4)",
+    "successive": "successive cone programming (capacities from the previous normal forces, relaxed)",
+    "lamodel": "the certified search: both methods, continuations, descents, perturbations",
+}
+
+
+def _csv(frame: pd.DataFrame, path: Path) -> str:
+    return atomic_write(path, lambda tmp: frame.to_csv(tmp, index=False, float_format=FLOAT_FORMAT,
+                                                       lineterminator="\n", na_rep=""))
+
+
+def summary_row(s: Structure3D, result, method: str, extra: dict) -> dict:
+    """The row of summary.csv (see the module doc) for a :class:`Result3D`."""
+    state = result.state
+    meta = s.meta
+    live = meta.get("live_load")
+    row = {
+        "instance": s.name, "alpha": result.alpha, "certified": state is not None,
+        "alpha_associative": result.associative, "status": result.status, "message": result.message,
+        "method": method, "path": result.path,
+        "residual": max(state.residual.values()) if state is not None and state.residual else np.nan,
+        "n_blocks": s.n_blocks, "n_supports": len(s.supports), "n_interfaces": s.n_interfaces,
+        "n_contacts": s.n_points, "first_alpha": result.first_alpha, "first_time_s": result.first_time,
+        "wall_time_s": result.seconds, "cone_programs": result.n_cone, "lps": result.n_lp,
+        "dimension": 3, "source": meta.get("source", ""), "mu": meta.get("mu", np.nan),
+        "unit_weight": meta.get("unit_weight", np.nan),
+        "live_load": " ".join(f"{float(c):.17g}" for c in live) if live is not None else "",
+        "defaults_applied": " ".join(meta.get("defaults") or []),
+        "length_unit": s.units.get("length", ""), "force_unit": s.units.get("force", ""),
+    }
+    row.update(extra)
+    return row
+
+
+def runs_frame(runs: list) -> pd.DataFrame:
+    """runs.csv from (method, its ``Result3D.methods`` entry or a row) pairs."""
+    rows = []
+    for k, (method, m) in enumerate(runs, start=1):
+        cert = m.get("own", m.get("certified", np.nan))
+        rows.append({"run": k, "method": method, "alpha_raw": m.get("raw", np.nan), "alpha_certified": cert,
+                     "certified": bool(np.isfinite(cert)), "path": m.get("own_path", m.get("path", "")),
+                     "seconds": m.get("seconds", np.nan)})
+    return pd.DataFrame(rows, columns=["run", "method", "alpha_raw", "alpha_certified", "certified", "path",
+                                       "seconds"])
+
+
+def methods_frame3d(runs: pd.DataFrame, iterations: dict) -> pd.DataFrame:
+    """methods.csv's table from runs.csv's (``iterations``: method -> cone programs and LPs
+    of the run that produced it)."""
+    cert = runs["alpha_certified"].to_numpy(dtype=float)
+    best = np.nanmin(cert) if np.isfinite(cert).any() else np.nan
+    return pd.DataFrame({
+        "method": runs["method"], "alpha_raw": runs["alpha_raw"], "alpha_certified": cert,
+        "certified": runs["certified"], "gap_to_best": cert - best, "seconds": runs["seconds"],
+        "iterations": [int(iterations.get(m, 0)) for m in runs["method"]],
+        "notes": [NOTES.get(m, "") for m in runs["method"]],
+    }, columns=list(METHOD_COLUMNS))
+
+
+def write_results3d(folder, s: Structure3D, result, summary: dict, runs: pd.DataFrame,
+                    methods: pd.DataFrame | None = None) -> list:
+    """Write the result folder's tables into ``folder``; returns their paths."""
+    folder = Path(folder)
+    state = result.state
+    forces = None if state is None else np.column_stack([state.N, state.T1, state.T2])
+    tables = {"summary.csv": pd.DataFrame([summary]), "blocks.csv": blocks_table(s, result.motions),
+              "contacts.csv": contacts_table(s, forces, None if state is None else state.modes),
+              "runs.csv": runs}
+    if methods is not None:
+        tables["methods.csv"] = methods
+    return [_csv(frame, folder / name) for name, frame in tables.items()]

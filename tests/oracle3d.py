@@ -1,0 +1,111 @@
+"""An independent check of a 3D result folder, from its CSV files alone.
+
+Plain loops over the rows of summary.csv, blocks.csv and contacts.csv; nothing of lamodel
+is imported. For the alpha of summary.csv it rebuilds each block's six equilibrium rows
+(forces and moments about the centroid: the dead and live loads and their moments, and at
+every contact point ``N n + T1 t1 + T2 t2`` on block_a, its opposite on block_b), checks
+that they balance, that every point's force lies in the Coulomb cone, and — from the block
+motions — the mechanism: ``live . u = 1``, openings only where N = 0, slips only on the
+cone with T along the slip, and the seed's eq. 5, ``alpha = alpha_K = -dead . u +
+sum(-mu N |slip|)``.
+"""
+import csv
+import math
+
+
+def _rows(path):
+    with open(path, newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _vec(row, names):
+    return [float(row[n]) for n in names]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def check_folder(folder):
+    """Violations (0 is exact) of each condition, each measured with one dimension:
+    forces by the largest block load, moments and rotations by the structure's size,
+    motions by the largest point motion. Also ``alpha`` (summary.csv) and ``alpha_fit``
+    (the alpha that balances the rows best, by least squares)."""
+    folder = str(folder)
+    summary = _rows(folder + "/summary.csv")[0]
+    alpha = float(summary["alpha"])
+    blocks = _rows(folder + "/blocks.csv")
+    contacts = _rows(folder + "/contacts.csv")
+    index = {b["block"]: k for k, b in enumerate(blocks)}
+    centroid = [_vec(b, ("x", "y", "z")) for b in blocks]
+    pts = [_vec(c, ("x", "y", "z")) for c in contacts] + centroid
+    size = math.sqrt(sum((max(p[k] for p in pts) - min(p[k] for p in pts)) ** 2 for k in range(3))) or 1.0
+    fixed = [[0.0] * 6 for _ in blocks]   # dead loads and contact forces
+    live = [[0.0] * 6 for _ in blocks]
+    force_scale = 0.0
+    for k, b in enumerate(blocks):
+        dead = _vec(b, ("dead_x", "dead_y", "dead_z")) + [m / size for m in _vec(b, ("dead_mx", "dead_my", "dead_mz"))]
+        lv = _vec(b, ("live_x", "live_y", "live_z")) + [m / size for m in _vec(b, ("live_mx", "live_my", "live_mz"))]
+        for r in range(6):
+            fixed[k][r] += dead[r]
+            live[k][r] += lv[r]
+        force_scale = max(force_scale, max(abs(v) for v in dead + lv))
+    motion = [_vec(b, ("ux", "uy", "uz", "rx", "ry", "rz")) for b in blocks]
+
+    def velocity(body, p):
+        if body not in index:
+            return [0.0, 0.0, 0.0]
+        j = index[body]
+        u = motion[j]
+        w = _cross(u[3:], [p[i] - centroid[j][i] for i in range(3)])
+        return [u[i] + w[i] for i in range(3)]
+
+    cone = 0.0
+    strains = []
+    for c in contacts:
+        p = _vec(c, ("x", "y", "z"))
+        n, t1, t2 = _vec(c, ("nx", "ny", "nz")), _vec(c, ("t1x", "t1y", "t1z")), _vec(c, ("t2x", "t2y", "t2z"))
+        N, T1, T2, mu = float(c["N"]), float(c["T1"]), float(c["T2"]), float(c["mu"])
+        f = [N * n[i] + T1 * t1[i] + T2 * t2[i] for i in range(3)]
+        for body, sign in ((c["block_a"], 1.0), (c["block_b"], -1.0)):
+            if body in index:
+                j = index[body]
+                m = _cross([p[i] - centroid[j][i] for i in range(3)], f)
+                for r in range(3):
+                    fixed[j][r] += sign * f[r]
+                    fixed[j][3 + r] += sign * m[r] / size
+        cone = max(cone, math.hypot(T1, T2) + mu * N, N)
+        d = [vb - va for vb, va in zip(velocity(c["block_b"], p), velocity(c["block_a"], p))]
+        strains.append((N, T1, T2, mu, _dot(d, n), _dot(d, t1), _dot(d, t2)))
+    force_scale = force_scale or 1.0
+    equilibrium = max(abs(fixed[k][r] + alpha * live[k][r]) for k in range(len(blocks)) for r in range(6))
+    num = sum(fixed[k][r] * live[k][r] for k in range(len(blocks)) for r in range(6))
+    den = sum(live[k][r] ** 2 for k in range(len(blocks)) for r in range(6))
+    # the mechanism: normalisation, flow rule, virtual work (eq. 5)
+    normalisation = sum(_dot(_vec(b, ("live_x", "live_y", "live_z")), motion[k][:3])
+                        + _dot(_vec(b, ("live_mx", "live_my", "live_mz")), motion[k][3:]) for k, b in enumerate(blocks))
+    scale_u = max([max(abs(v) for v in s[4:]) for s in strains] + [1e-300])
+    alpha_k = -sum(_dot(_vec(b, ("dead_x", "dead_y", "dead_z")), motion[k][:3])
+                   + _dot(_vec(b, ("dead_mx", "dead_my", "dead_mz")), motion[k][3:]) for k, b in enumerate(blocks))
+    opening = flow = 0.0
+    for N, T1, T2, mu, qn, s1, s2 in strains:
+        slip = math.hypot(s1, s2)
+        alpha_k += -mu * N * slip
+        opening = max(opening, -qn / scale_u, abs(N * qn) / (force_scale * scale_u))
+        flow = max(flow, abs(-mu * N * slip - (T1 * s1 + T2 * s2)) / (force_scale * scale_u))
+    return {"alpha": alpha, "alpha_fit": -num / den, "equilibrium": equilibrium / force_scale,
+            "cone": max(cone, 0.0) / force_scale, "normalisation": abs(normalisation - 1.0),
+            "opening": opening, "flow_rule": flow, "virtual_work": abs(alpha_k - alpha) / max(1.0, abs(alpha))}
+
+
+def violations(folder, tol=1e-6):
+    """The conditions of :func:`check_folder` beyond ``tol`` (alpha_fit against alpha), as text."""
+    r = check_folder(folder)
+    bad = [f"{k} {v:.2e}" for k, v in r.items() if k not in ("alpha", "alpha_fit") and v > tol]
+    if abs(r["alpha_fit"] - r["alpha"]) > tol * max(1.0, abs(r["alpha"])):
+        bad.append(f"alpha_fit {r['alpha_fit']:.9f} != alpha {r['alpha']:.9f}")
+    return bad
