@@ -22,7 +22,7 @@ from importlib import import_module
 
 from .errors import InputError, SolverError  # noqa: F401
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 _LAZY = {
     "Structure": "lamodel.structure",

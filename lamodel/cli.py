@@ -253,4 +253,4 @@ def run_solve():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    exit_now(main())

@@ -98,6 +98,10 @@ def kill_quietly(processes):
             pass
 
 
+def _exit_at_once(signum, frame):
+    os._exit(128 + int(signum))
+
+
 def exit_now(status: int):
     """End a command-line process with ``status`` once its work is done: the atexit
     handlers run and the standard streams are flushed, then the process exits without
@@ -109,6 +113,13 @@ def exit_now(status: int):
     script's wrapper below this call), or while a worker process or a non-daemon thread
     is still there (the usual exit waits for it)."""
     import atexit
+    if threading.current_thread() is threading.main_thread():
+        # the result is written and the status decided: a stop signal during the teardown
+        # (a pending one, or a second Ctrl-C while threads are joined) ends the process at
+        # once with its own status, never as a KeyboardInterrupt escaping the interpreter
+        for sig in STOP_SIGNALS:
+            if signal.getsignal(sig) is not signal.SIG_IGN:
+                signal.signal(sig, _exit_at_once)
     depth, frame = 0, sys._getframe(1)
     while frame is not None and depth <= 2:
         depth, frame = depth + 1, frame.f_back
