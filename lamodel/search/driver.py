@@ -226,6 +226,8 @@ def _search(engine, opt, progress, client=None, work=None):
             record.best = record.best_user = None
             return UNSTABLE, _unstable_message(engine), alpha_assoc
         lps_first = work["first"] = engine.n_lps()  # the work of the first certificate (the stopping rule)
+        if opt.time_limit is None:  # the chain from zero cohesion stops at the work bound too
+            starts.work_limit = TOTAL_WORK * lps_first
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
             starts.continuations(x0)

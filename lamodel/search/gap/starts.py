@@ -44,6 +44,9 @@ class Starts:
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
         self._from_zero = None  # (state,) once the chain from zero cohesion ran
+        #: LP solves at which the chain from zero cohesion stops (None: no bound): the
+        #: driver's work bound without a time limit
+        self.work_limit = None
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -155,6 +158,9 @@ class Starts:
         finally:
             self.record.phase("continuation", t)
 
+    def _spent(self):
+        return self.work_limit is not None and self.problem.n_lps() >= self.work_limit
+
     def from_zero(self):
         """The seed's fixed-point chain from zero cohesion (:mod:`.fallback`), once: the
         weakest fictitious system, a start that depends on nothing found before. Measured
@@ -165,7 +171,7 @@ class Starts:
         if self._from_zero is None:
             t = time.perf_counter()
             try:
-                self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion"),)
+                self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
             finally:
                 self.record.phase("zero cohesion", t)
         return self._from_zero[0]
@@ -201,12 +207,15 @@ class Starts:
         return best
 
     # -------------------------------------------------------- the GA's local search
-    def chain(self, c, steps, source="chain", patience=None):
+    def chain(self, c, steps, source="chain", patience=None, until=None):
         """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism.
-        ``patience``: once it certified, stop after that many steps without improvement."""
+        ``patience``: once it certified, stop after that many steps without improvement;
+        ``until()``: True stops it."""
         p = self.problem
         best, since = None, 0
         for _ in range(steps):
+            if until is not None and until():
+                break
             status, _, xc, u, xi = p.mechanism(c)
             if status != "optimal":
                 break
