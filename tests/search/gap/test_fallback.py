@@ -82,3 +82,14 @@ def test_the_chain_from_zero_cohesion_reaches_the_least_known_state_of_the_panel
     assert collapse_violation(s, e.record.best_user) <= 1e-7
     lps = e.n_lps()
     assert e.starts.from_zero() is st and e.n_lps() == lps  # once
+
+
+def test_the_chain_from_zero_cohesion_stops_at_the_work_limit():
+    """With its work already spent (the driver's bound without a time limit) the chain
+    from zero cohesion solves no LP."""
+    e = GapSearch(_wall33(0.9))
+    _, _, x0 = e.starts.associative()
+    e.starts.first_certificate(x0)
+    e.starts.work_limit = e.n_lps()
+    lps = e.n_lps()
+    assert e.starts.from_zero() is None and e.n_lps() == lps
