@@ -143,9 +143,8 @@ STALL_WORK = 3.0
 #: --quick, with and without the bound): all 37 cases reach their best within 4.75 times
 #: (median 0.2-1.3 per family) and end with the same alpha under this bound as without it;
 #: the 1020-block running-bond wall (mu 0.65) reaches 0.444923 at 8.2 times (424 LPs, a
-#: continuation start) and its GA 0.444912 only at 22.8 times; there an LP costs 0.15 s of
-#: CPU on average (380 s for 2549 LPs, measured on a loaded machine), so 10 times (520 LPs)
-#: is 78 s of CPU there, less on an idle machine.
+#: continuation start) and its GA 0.444912 only at 22.8 times; with 10 times (520 LPs) its
+#: default run took 71 s, whole process (66.7 s of CPU, on a machine shared with others).
 TOTAL_WORK = 10.0
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1

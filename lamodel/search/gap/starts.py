@@ -164,10 +164,12 @@ class Starts:
     def from_zero(self):
         """The seed's fixed-point chain from zero cohesion (:mod:`.fallback`), once: the
         weakest fictitious system, a start that depends on nothing found before. Measured
-        (default runs, seed 0): the 33-block panel at mu = 1.0 certifies 1.000000 (the
-        wall sliding on its base) from the alternation and 0.623134 from this chain; a
-        10 x 10 running-bond wall at mu = 1.0, 1.000000 and 0.590221; Table 1's walls
-        reach their values from both. Returns its least certified state (or None)."""
+        (benchmarks/families.py --quick): 7 of the 37 cases get their best from it, e.g. the
+        10 x 10 running-bond wall at mu = 1.0 0.569157 where the alternation certifies
+        1.000000 (the wall sliding on its base); the 33-block panel at mu = 0.9 0.617364 for
+        every seed (else 0.685714 or 0.666030 for 4 seeds in 20); Table 1's walls keep
+        their values. Without a time limit it stops at ``work_limit``. Returns its least
+        certified state (or None)."""
         if self._from_zero is None:
             t = time.perf_counter()
             try:
