@@ -41,7 +41,7 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
         "d": s.d, "mu": s.mu, "N": N, "V": V, "M": M, "mode": modes})
     runs = pd.DataFrame([asdict(r) for r in outcome.runs],
                         columns=["start", "source", "alpha_ipopt", "status", "alpha_certified", "iterations",
-                                 "seconds"])
+                                 "seconds", "path"])
     # + 0.0 turns -0.0 (a structure with mu = 0) into 0: a multiplier has no signed zero
     runs[["alpha_ipopt", "alpha_certified"]] = runs[["alpha_ipopt", "alpha_certified"]].astype(float) + 0.0
     summary = {

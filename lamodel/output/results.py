@@ -18,7 +18,9 @@ A result folder holds (the output contract; other code and external checkers rel
     one of :data:`MODES`.
 ``runs.csv``
     one row per start of the solver: start, source, alpha_ipopt, status, alpha_certified,
-    iterations, seconds.
+    iterations, seconds; the search writes one more, path (which path of the search
+    certified that start's state: gap alternation, rescue, fixed-point fallback,
+    continuation, GA, Ipopt polish; empty when none).
 
 Sign conventions are those of :mod:`lamodel.structure`. Floats are written with 17
 significant digits and read back with Python's correctly rounded parser, so a

@@ -10,18 +10,22 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    the gap alternation (:mod:`.gap.alternation`: mechanism step, statics step on
    ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be held
    (:mod:`.gap.certify`); the certified state is descended (:mod:`.gap.descent`); if
-   nothing is certified, the rescue (:meth:`.gap.starts.Starts.first_certificate`).
+   nothing is certified, the rescue (:meth:`.gap.starts.Starts.first_certificate`), then,
+   where the alternation stalls at a partial optimum (a mechanism no statics can hold), the
+   seed's fixed-point chain from there (:mod:`.gap.fallback`).
 3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
    Then two more starts from the associative statics: the same alternation with the
    penalty rho raised from 10 and from 30 (:meth:`.gap.starts.Starts.continuations`), which
-   reach other collapse states than the first (1020 blocks: 0.444923 against 0.445755).
+   reach other collapse states than the first (1020 blocks: 0.444923 against 0.445755),
+   and the seed's chain from zero cohesion (:meth:`.gap.starts.Starts.from_zero`).
 4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
    best certified state. Fitness and local search: :meth:`.gap.fitness.Fitness.evaluate`
    (the cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each
    certified state descended). Stopping rule: no improvement for a while, measured in
    evaluations and LP solves against those the first certificate took (counted, not
    timed: a seed gives the same answer on any machine), at most ``generations``
-   generations, or the time limit.
+   generations, or the time limit; without a time limit, at most TOTAL_WORK times the
+   first certificate's LP solves in all.
 5. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
@@ -50,7 +54,8 @@ from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigi
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
-                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, Z_INIT, Z_MAX)
+                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK, Z_INIT,
+                     Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
@@ -73,7 +78,8 @@ class Outcome:
     seed: int
     first: tuple = (np.nan, np.nan)                 # (alpha, seconds) of the first certificate
     phases: dict = field(default_factory=dict)      # seconds per phase of the search
-    history: list = field(default_factory=list)     # (seconds, alpha, source) of each improvement
+    history: list = field(default_factory=list)     # (seconds, alpha, source, LP solves) of each improvement
+    lps_first: int = 0                              # LP solves of the first phase (the stopping rule's unit)
 
     @property
     def certified(self) -> bool:
@@ -142,6 +148,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
     def on_certified(user_state):
         progress.best(user_state.alpha)
 
+    work = {}  # LP solves of the first phase
     old_handler = catch_sigint(sigint.set)
     engine = None
     runs: list[Run] = []
@@ -151,10 +158,10 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
         engine.record.on_state = on_state
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
-        status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None))
+        status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None), work)
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
                         engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),
-                        time.perf_counter() - t_search))
+                        time.perf_counter() - t_search, path_of(engine.record.best)))
         if status == CERTIFIED or (status == NOT_CERTIFIED and engine.record.best is not None):
             _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
@@ -176,12 +183,32 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
     return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
-                   history=list(record.history) if record is not None else [])
+                   history=list(record.history) if record is not None else [],
+                   lps_first=work.get("first", 0))
 
 
 # ------------------------------------------------------------------------ the search
-def _search(engine, opt, progress, client=None):
-    """Steps 2-4 of the module doc. Returns (status, message, associative alpha)."""
+#: The paths that certify a state, by the first word of its source (runs.csv, ``path``).
+PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fallback",
+         "zero": "chain from zero cohesion", "continuation": "continuation", "genome": "GA",
+         "ipopt": "Ipopt polish"}
+
+
+def path_of(state) -> str:
+    """Which path of the search certified ``state`` (empty for None): the gap alternation,
+    its rescue, the fixed-point fallback (:mod:`.gap.fallback`), the chain from zero
+    cohesion, a continuation start, the GA or the Ipopt polish; a descent from a state
+    keeps its path."""
+    if state is None:
+        return ""
+    word = state.source.replace("-", "+").split("+")[0]
+    return PATHS.get(word, word)
+
+
+def _search(engine, opt, progress, client=None, work=None):
+    """Steps 2-4 of the module doc. Returns (status, message, associative alpha); ``work``
+    (a dict) gets the LP solves of the first phase as ``first``."""
+    work = {} if work is None else work
     alpha_assoc = np.nan
     starts, record = engine.starts, engine.record
     try:
@@ -198,7 +225,9 @@ def _search(engine, opt, progress, client=None):
         if not starts.stable():
             record.best = record.best_user = None
             return UNSTABLE, _unstable_message(engine), alpha_assoc
-        lps_first = engine.n_lps()  # the work of the first certificate (the GA's stopping rule)
+        lps_first = work["first"] = engine.n_lps()  # the work of the first certificate (the stopping rule)
+        if opt.time_limit is None:  # the chain from zero cohesion stops at the work bound too
+            starts.work_limit = TOTAL_WORK * lps_first
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
             starts.continuations(x0)
@@ -225,7 +254,10 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None):
 
     def stalled():
         """The stopping rule: pop_size evaluations and STALL_WORK times the LPs of the
-        first certificate without improvement (LPs, not seconds: deterministic)."""
+        first certificate without improvement (LPs, not seconds: deterministic); without
+        a time limit, also TOTAL_WORK times those LPs in all."""
+        if opt.time_limit is None and engine.n_lps() >= TOTAL_WORK * lps_first:
+            return True
         return (state["since"] >= opt.pop_size
                 and engine.n_lps() - state["lps"] >= STALL_WORK * lps_first)
 
@@ -395,7 +427,8 @@ def _certify_ipopt(engine, fut, i, st) -> Run:
     except Exception as exc:  # a failed solve is recorded, never fatal
         return Run(i, source, status=f"failed: {type(exc).__name__}: {exc}")
     state = _certify_point(engine, N, V, M, "ipopt")
-    return Run(i, source, alpha, message, state.alpha if state is not None else np.nan, iterations, seconds)
+    return Run(i, source, alpha, message, state.alpha if state is not None else np.nan, iterations, seconds,
+               path_of(state))
 
 
 def _certify_point(engine, N, V, M, source):

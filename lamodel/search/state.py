@@ -37,6 +37,7 @@ class Run:
     alpha_certified: float = np.nan
     iterations: int = 0
     seconds: float = 0.0
+    path: str = ""         # which path of the search certified its state (driver.path_of)
 
 
 #: How a solve (:class:`lamodel.search.driver.Outcome`) or a method

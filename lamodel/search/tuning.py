@@ -111,6 +111,14 @@ DESCENT_STEP = 1e-10
 BELOW_BEST = 1e-9
 #: Stable under dead load: min alpha over S is at most this (non-dimensional): round-off.
 STABLE_ALPHA = 1e-9
+#: The fallback where the gap alternation stalls without a certificate (search/gap/
+#: fallback.py): the seed's fixed-point chain from the stall, at most FALLBACK_STEPS steps
+#: without a certificate (measured at mu = 0.9: the 20 x 25 running-bond wall certifies at
+#: step 15 from its stall, the 33-block panel at step 4), and once certified at most
+#: FALLBACK_PATIENCE steps without improvement (the 33-block panel: 0.666030 at step 4,
+#: 0.617364 at step 6, then a fixed point at 0.645963). benchmarks/families.py shows the
+#: path that certified each case.
+FALLBACK_STEPS, FALLBACK_PATIENCE = 60, 8
 #: The seed's fixed-point chain has converged when the cohesions repeat to these (relative,
 #: absolute) tolerances: round-off margins.
 CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
@@ -132,6 +140,16 @@ Z_MAX, Z_INIT = 3.0, (0.1, 0.3, 1.0)
 #: block sliding out alone on a tied wall), and this many times the LP solves of the first
 #: certificate, without improvement.
 STALL_WORK = 3.0
+#: Without a time limit the whole search stops at this many times the LP solves of its first
+#: phase (first certificate and stability; counted, not timed: the work is bounded by what
+#: the structure's first certificate costs, so a default run's time grows like that
+#: certificate's; a time limit is the user's cap instead). Measured (benchmarks/families.py
+#: --quick, with and without the bound): all 37 cases reach their best within 4.75 times
+#: (median 0.2-1.3 per family) and end with the same alpha under this bound as without it;
+#: the 1020-block running-bond wall (mu 0.65) reaches 0.444923 at 8.2 times (424 LPs, a
+#: continuation start) and its GA 0.444912 only at 22.8 times; with 10 times (520 LPs) its
+#: default run took 71 s, whole process (66.7 s of CPU, on a machine shared with others).
+TOTAL_WORK = 10.0
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
 #: Ipopt starts when --starts is not given.

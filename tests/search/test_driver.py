@@ -65,7 +65,10 @@ def test_solve_script_output_contract(tmp_path):
     assert set(contacts["mode"]) <= {"closed", "sliding", "hinging", "sliding+hinging", "open"}
     runs = pd.read_csv(out / "runs.csv")
     assert list(runs.columns) == ["start", "source", "alpha_ipopt", "status", "alpha_certified", "iterations",
-                                  "seconds"]
+                                  "seconds", "path"]
+    # the search's row says which path certified its answer
+    assert runs["path"][0] in ("gap alternation", "rescue", "fixed-point fallback", "chain from zero cohesion",
+                               "continuation", "GA")
     assert len(runs) == summary.n_starts[0]
     alpha = check_folder(out)
     assert alpha == pytest.approx(summary.alpha[0]) and alpha <= 0.63900
@@ -132,7 +135,7 @@ def test_seed_walls_exact(courses, expected):
     assert o.status == "certified"
     assert o.best.alpha == pytest.approx(expected, abs=1e-6)
     assert o.best.alpha <= o.alpha_associative
-    alphas = [a for _, a, _ in o.history]
+    alphas = [a for _, a, _, _ in o.history]
     assert alphas and alphas[-1] == o.best.alpha
     assert alphas == sorted(alphas, reverse=True) and len(set(alphas)) == len(alphas)  # each a new best
     assert collapse_violation(s, o.best) <= 1e-7
@@ -216,3 +219,33 @@ def test_unstable_under_dead_load():
     o = solve(structure_from_json(spec), SolveOptions(starts=0))
     assert o.status == "unstable" and o.best is None
     assert o.message.startswith("unstable under dead load")
+
+
+def test_without_a_time_limit_the_work_is_bounded_by_the_first_certificate(monkeypatch):
+    """Without a time limit the search stops once it has solved TOTAL_WORK times the LPs
+    of its first certificate (an evaluation of the GA may end past it); a time limit
+    replaces that bound (the search then runs to its own stopping rule)."""
+    from lamodel.search import driver
+    s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
+    free = solve(s, SolveOptions(starts=0))
+    first = free.history[0][3]
+    monkeypatch.setattr(driver, "TOTAL_WORK", 1.0)
+    bounded = solve(s, SolveOptions(starts=0))
+    timed = solve(s, SolveOptions(starts=0, time_limit=600))
+    assert bounded.certified and bounded.best.alpha <= bounded.alpha_associative
+    assert bounded.runs[0].iterations < free.runs[0].iterations
+    assert timed.runs[0].iterations == free.runs[0].iterations
+    assert bounded.history[0][3] == first  # the same first certificate
+
+
+def test_runs_csv_says_which_path_certified_the_answer():
+    """The fixed-point fallback certifies the 33-block panel at mu = 0.9 first, where the
+    gap alternation and its rescue stall; the chain from zero cohesion then certifies the
+    least state (a GA of one generation of two)."""
+    from lamodel.search.driver import path_of
+    s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
+    o = solve(s, SolveOptions(starts=0, pop_size=2, generations=1))
+    assert o.certified and o.history[0][2].startswith("fixed-point")
+    # then the chain from zero cohesion, before the GA: 0.617364 for every seed
+    assert path_of(o.best) == "chain from zero cohesion" and o.best.alpha <= 0.617365
+    assert o.runs[0].path == path_of(o.best)

@@ -24,7 +24,7 @@ class Record:
         self.best: CollapseState | None = None      # scaled units
         self.best_user: CollapseState | None = None
         self.first = None                           # (alpha, seconds) of the first certificate
-        self.history = []                           # (seconds, alpha, source) of each improvement
+        self.history = []                           # (seconds, alpha, source, LP solves) of each improvement
         self.phases = {}                            # seconds per phase
 
     def phase(self, name, t):
@@ -57,7 +57,7 @@ class Record:
         t = p.elapsed()
         if self.first is None:
             self.first = (a, t)
-        self.history.append((t, a, state.source))
+        self.history.append((t, a, state.source, p.n_lps()))
         if p.verbose:
             print(f"  {t:8.2f} s  alpha {a:.6f}  {state.source}", flush=True)
         if self.on_certified is not None:

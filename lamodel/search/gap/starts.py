@@ -2,14 +2,17 @@
 
 1. :meth:`Starts.associative`: max alpha over S, the associative bound and first statics.
 2. :meth:`Starts.first_certificate`: the alternation on RHO_MAIN from there and, if it
-   certifies nothing, :meth:`Starts.rescue`.
+   certifies nothing, :meth:`Starts.rescue`, then the fixed-point chain from the stall
+   (:mod:`.fallback`).
 3. :meth:`Starts.stable`: some statics carries the dead load alone.
-4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS).
+4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS), and the
+   seed's chain from zero cohesion (:meth:`Starts.from_zero`).
 5. The GA's evaluations (:mod:`.fitness`): :meth:`Starts.perturbed` cohesions and the
    seed's fixed-point :meth:`Starts.chain`.
 
 Where an alternation stalls without a certificate, :meth:`Starts.certify_near` certifies
-from the rows its statics nearly holds.
+from the rows its statics nearly holds, and the first certificate then falls back to the
+seed's chain from the stall (:mod:`.fallback`).
 """
 from __future__ import annotations
 
@@ -18,11 +21,12 @@ import time
 import numpy as np
 
 from ..highs import INF
-from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN, SEARCH_ACTIVE,
-                      STABLE_ALPHA)
+from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, DESCENT_STEP, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
+                      SEARCH_ACTIVE, STABLE_ALPHA)
 from .alternation import Alternation
 from .certify import Certifier
 from .descent import Descent
+from .fallback import fallback
 from .problem import ScaledProblem
 from .record import Record
 
@@ -39,6 +43,10 @@ class Starts:
                  record: Record):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
+        self._from_zero = None  # (state,) once the chain from zero cohesion ran
+        #: LP solves at which the chain from zero cohesion stops (None: no bound): the
+        #: driver's work bound without a time limit
+        self.work_limit = None
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -86,10 +94,15 @@ class Starts:
     # ------------------------------------------------------------ first certificate
     def first_certificate(self, x_assoc):
         """The gap alternation from the associative statics and, if it certifies nothing,
-        the rescue from where it stalled."""
+        the rescue from where it stalled, then the fixed-point chain from the stall and from
+        the associative statics (:mod:`.fallback`), then from zero cohesion."""
         _, x = self.alternate(x_assoc, source="gap")
         if self.record.best is None:
             self.rescue(x_assoc, x)
+        if self.record.best is None:
+            fallback(self, (x, x_assoc))
+        if self.record.best is None:
+            self.from_zero()
 
     def rescue(self, x_assoc, x_stall=None):
         """When the main ladder certifies nothing: higher rho from where it stalled (the
@@ -110,7 +123,8 @@ class Starts:
 
     # -------------------------------------------------------------- continuations
     def continuations(self, x_assoc):
-        """The continuation starts (one per ladder of RHO_CONTS, in turn); then the LPs get
+        """The continuation starts (one per ladder of RHO_CONTS, in turn) and the chain from
+        zero cohesion (:meth:`from_zero`); then the LPs get
         back the bases they had before them (a cold LP is made cold again), so that what
         follows (the GA, serial or pure evaluations from a snapshot) starts where it would
         without them: measured, a 28-block wall's parallel GA certified nothing from the
@@ -119,6 +133,7 @@ class Starts:
         saved = {name: None if lp.cold else lp.h.getBasis() for name, lp in lps.items()}
         for rhos in RHO_CONTS:
             self.continuation(x_assoc, rhos)
+        self.from_zero()
         for name, lp in lps.items():
             if saved[name] is None:
                 lp.restart(None)
@@ -142,6 +157,26 @@ class Starts:
             return best
         finally:
             self.record.phase("continuation", t)
+
+    def _spent(self):
+        return self.work_limit is not None and self.problem.n_lps() >= self.work_limit
+
+    def from_zero(self):
+        """The seed's fixed-point chain from zero cohesion (:mod:`.fallback`), once: the
+        weakest fictitious system, a start that depends on nothing found before. Measured
+        (benchmarks/families.py --quick): 7 of the 37 cases get their best from it, e.g. the
+        10 x 10 running-bond wall at mu = 1.0 0.569157 where the alternation certifies
+        1.000000 (the wall sliding on its base); the 33-block panel at mu = 0.9 0.617364 for
+        every seed (else 0.685714 or 0.666030 for 4 seeds in 20); Table 1's walls keep
+        their values. Without a time limit it stops at ``work_limit``. Returns its least
+        certified state (or None)."""
+        if self._from_zero is None:
+            t = time.perf_counter()
+            try:
+                self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
+            finally:
+                self.record.phase("zero cohesion", t)
+        return self._from_zero[0]
 
     # ---------------------------------------------------------- near-active rows
     def certify_near(self, x, source, first=False):
@@ -174,17 +209,27 @@ class Starts:
         return best
 
     # -------------------------------------------------------- the GA's local search
-    def chain(self, c, steps, source="chain"):
-        """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism."""
+    def chain(self, c, steps, source="chain", patience=None, until=None):
+        """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism.
+        ``patience``: once it certified, stop after that many steps without improvement;
+        ``until()``: True stops it."""
         p = self.problem
-        best = None
+        best, since = None, 0
         for _ in range(steps):
+            if until is not None and until():
+                break
             status, _, xc, u, xi = p.mechanism(c)
             if status != "optimal":
                 break
             st = self.certifier.certify(u, xi, source)
             if st is not None:
-                best = _least(best, self.descent.descend(st))
+                st = self.descent.descend(st)
+                if best is None or st.alpha < best.alpha - DESCENT_STEP * max(1.0, best.alpha):
+                    since = 0
+                best = _least(best, st)
+            since += best is not None
+            if patience is not None and since > patience:
+                break
             c_new = -p.mu * p.cohesive_N(xc)
             if np.allclose(c_new, c, rtol=CHAIN_RTOL, atol=CHAIN_ATOL):
                 break

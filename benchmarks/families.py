@@ -1,0 +1,241 @@
+#!/usr/bin/env python3
+"""The certified search on generated families of structures, not on one wall.
+
+    python benchmarks/families.py --quick                  # small sizes (minutes)
+    python benchmarks/families.py                          # 50 to 2,000 blocks
+    python benchmarks/families.py --quick --families bond,arch --csv results/families.csv
+
+Families (each varies what users vary; mu from 0.3 to 1.0):
+
+* ``bond``: running-bond walls (4 x 1.75 blocks, horizontal live load equal to the weight),
+  squat to 2,000 blocks;
+* ``stack``: stack-bond walls (every course of full blocks: continuous head joints);
+* ``slender`` and ``squat``: tall narrow and long low running-bond walls;
+* ``openings``: running-bond walls with doors and windows under lintels
+  (:func:`lamodel.geometry.wall_with_openings`);
+* ``arch`` and ``portal``: the seed's kinds, ring thickness varied;
+* ``point``: a vertical live point load on an arch's haunch, and a horizontal one on the top
+  course of a wall (only those loads are multiplied);
+* multi-leaf walls: no generator exists, the family is skipped.
+
+Each case runs the default search (``lamodel solve`` with no options: its own stopping
+rule) in its own process; with ``--all-below B`` (default 40 blocks in --quick, 0
+otherwise), also every published method (``--method all``). Per case: status, certified
+alpha, the path that certified it (runs.csv's ``path``), time to the first certificate
+and to the best, LP solves at the first certificate and at the best, and the gap of the
+default run's alpha to the least certified alpha any method found. Per family: success
+rate over the cases stable under dead load, median times, worst gap. A benchmark, not a
+test: nothing is asserted. Times depend on the machine's load; LP counts do not.
+"""
+from __future__ import annotations
+
+import argparse
+import multiprocessing as mp
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+MUS = (0.3, 0.65, 0.9, 1.0)
+
+
+# ------------------------------------------------------------------ instances
+def _bond_rows(courses, blocks, stack=False):
+    if stack:
+        return [[1] * blocks for _ in range(courses)]
+    return [[0.5] + [1] * (blocks - 1) + [0.5] if r % 2 == 0 else [1] * blocks for r in range(courses)]
+
+
+def _wall(courses, blocks, mu, stack=False, name="wall"):
+    from lamodel.geometry import running_bond_wall
+    return running_bond_wall(_bond_rows(courses, blocks, stack), mu=mu, name=name)
+
+
+def _openings(courses, width, mu, name):
+    from lamodel.geometry import wall_with_openings
+    w = width
+    if courses < 10:  # one door
+        openings = ((w // 2 - 1, w // 2 + 1, 0, courses - 2),)
+    else:  # a door and a window on each storey
+        openings = ((2, 4, 0, 7), (w - 5, w - 3, 3, 8))
+        if courses >= 16:
+            openings += ((w - 5, w - 3, 10, 14),)
+    return wall_with_openings(courses=courses, width=width, openings=openings, mu=mu, name=name)
+
+
+def _arch(thickness, mu, name, point=False):
+    from lamodel.geometry import arch
+    spec = arch(n_voussoirs=13, inner_radius=5.0, thickness=thickness, mu=mu, name=name)
+    if point:
+        # a vertical live point load on the top face of the fourth voussoir (the haunch)
+        v = next(b for b in spec["blocks"] if b["id"] == "v4")
+        xs = np.array(v["vertices"], float)
+        top = xs[np.argsort(-np.hypot(xs[:, 0], xs[:, 1] + 0.0))[:2]]  # the two extrados corners
+        at = top.mean(axis=0)
+        spec.pop("live_load", None)
+        spec["loads"] = [{"block": "v4", "at": [float(at[0]), float(at[1])], "force": [0.0, -1.0]}]
+    return spec
+
+
+def _portal(thickness, mu, name):
+    from lamodel.geometry import portal
+    return portal(n_voussoirs=11, inner_radius=3.0, thickness=thickness, mu=mu, name=name)
+
+
+def _wall_point(courses, blocks, mu, name):
+    spec = _wall(courses, blocks, mu, name=name)
+    top = max((b for b in spec["blocks"] if not b.get("support")), key=lambda b: max(v[1] for v in b["vertices"])
+              + 1e-6 * max(v[0] for v in b["vertices"]))
+    xs = np.array(top["vertices"], float)
+    y = xs[:, 1].max()
+    x = xs[:, 0].min()
+    spec.pop("live_load", None)
+    spec["loads"] = [{"block": top["id"], "at": [float(x), float(y)], "force": [1.0, 0.0]}]
+    return spec
+
+
+def cases(quick: bool):
+    """(family, case name, JSON-spec builder) for every case."""
+    out = []
+    if quick:
+        sizes = {"bond": [(5, 10), (10, 10)], "stack": [(5, 10)], "slender": [(12, 3)], "squat": [(3, 15)],
+                 "openings": [(6, 8)]}
+        thick = {"arch": (0.6, 1.5), "portal": (1.5,)}
+        mus = MUS
+    else:
+        sizes = {"bond": [(10, 10), (20, 25), (40, 25), (80, 25)], "stack": [(10, 10), (20, 25)],
+                 "slender": [(30, 4), (60, 8)], "squat": [(4, 25), (6, 50)], "openings": [(12, 12), (16, 20)]}
+        thick = {"arch": (0.5, 1.0, 1.5), "portal": (1.0, 1.5)}
+        mus = MUS
+    for fam in ("bond", "stack", "slender", "squat"):
+        for c, b in sizes[fam]:
+            for mu in mus:
+                name = f"{fam}{c}x{b}_mu{mu:g}"
+                out.append((fam, name, (lambda c=c, b=b, mu=mu, name=name, fam=fam:
+                                        _wall(c, b, mu, stack=fam == "stack", name=name))))
+    for c, w in sizes["openings"]:
+        for mu in mus:
+            name = f"openings{c}x{w}_mu{mu:g}"
+            out.append(("openings", name, lambda c=c, w=w, mu=mu, name=name: _openings(c, w, mu, name)))
+    for fam, build in (("arch", _arch), ("portal", _portal)):
+        for t in thick[fam]:
+            for mu in (0.3, 0.5, 0.9):
+                name = f"{fam}_t{t:g}_mu{mu:g}"
+                out.append((fam, name, lambda t=t, mu=mu, name=name, build=build: build(t, mu, name)))
+    for mu in (0.5, 0.9):
+        name = f"point_arch_mu{mu:g}"
+        out.append(("point", name, lambda mu=mu, name=name: _arch(1.0, mu, name, point=True)))
+        c, b = sizes["bond"][0]
+        name = f"point_wall{c}x{b}_mu{mu:g}"
+        out.append(("point", name, lambda c=c, b=b, mu=mu, name=name: _wall_point(c, b, mu, name)))
+    return out
+
+
+# ------------------------------------------------------------------------ runs
+def _run(spec, all_methods, total_work, queue):
+    from lamodel.io.jsonspec import structure_from_json
+    from lamodel.search import driver
+    from lamodel.search.driver import SolveOptions, path_of, solve
+    if total_work is not None:
+        driver.TOTAL_WORK = total_work
+    s = structure_from_json(spec)
+    t = time.perf_counter()
+    o = solve(s, SolveOptions())
+    total = time.perf_counter() - t
+    h = o.history
+    row = dict(blocks=s.n_blocks, status=o.status, alpha=o.best.alpha if o.best else np.nan,
+               path=path_of(o.best), assoc=o.alpha_associative,
+               t_first=h[0][0] if h else np.nan, t_best=h[-1][0] if h else np.nan, total=total,
+               lps=o.runs[0].iterations if o.runs else 0, lps_first=o.lps_first,
+               lps_best=h[-1][3] if h else np.nan)
+    # the LP solves at the best state, in units of the first phase's (TOTAL_WORK's unit)
+    row["best_lps_ratio"] = row["lps_best"] / row["lps_first"] if h and o.lps_first else np.nan
+    least = row["alpha"]
+    if all_methods:
+        from lamodel.search.methods import METHODS, run_method
+        for m in METHODS[:-1]:  # lamodel's own is the run above
+            r = run_method(m, s, SolveOptions())
+            row[f"alpha_{m}"] = r.alpha_certified
+            if np.isfinite(r.alpha_certified) and not (least <= r.alpha_certified):
+                least = r.alpha_certified
+    row["least"] = least
+    queue.put(row)
+
+
+def run_case(spec, all_methods, timeout, total_work=None):
+    ctx = mp.get_context("spawn")
+    queue = ctx.Queue()
+    p = ctx.Process(target=_run, args=(spec, all_methods, total_work, queue))
+    t = time.perf_counter()
+    p.start()
+    try:
+        row = queue.get(timeout=timeout)
+    except Exception:
+        row = dict(status="timeout", alpha=np.nan)
+    p.join(5)
+    if p.is_alive():
+        p.kill()
+    row["process"] = time.perf_counter() - t
+    return row
+
+
+def summarise(df):
+    import pandas as pd
+    rows = []
+    for fam, g in df.groupby("family", sort=False):
+        stable = g[g.status != "unstable"]
+        ok = stable.status == "certified"
+        gap = (stable.alpha / stable.least - 1.0).where(ok)
+        rows.append(dict(family=fam, cases=len(g), stable=len(stable), certified=int(ok.sum()),
+                         success=f"{ok.mean():.0%}" if len(stable) else "-",
+                         t_first_med=stable.t_first.median(), t_best_med=stable.t_best.median(),
+                         total_max=stable.process.max(), worst_gap=gap.max(),
+                         best_lps_ratio_med=stable.best_lps_ratio.median(),
+                         best_lps_ratio_max=stable.best_lps_ratio.max()))
+    return pd.DataFrame(rows)
+
+
+def main(argv=None):
+    import pandas as pd
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="small sizes only")
+    ap.add_argument("--families", default="", help="comma-separated families to run (default: all)")
+    ap.add_argument("--all-below", type=int, default=None,
+                    help="also run --method all on cases with at most this many blocks (default 40 with --quick, "
+                         "else 0)")
+    ap.add_argument("--timeout", type=float, default=900.0, help="seconds a case may take (whole process)")
+    ap.add_argument("--total-work", type=float, default=None,
+                    help="the driver's TOTAL_WORK for this run (default: lamodel.search.tuning's; inf: no bound), "
+                         "to show the bound's effect across the families")
+    ap.add_argument("--csv", default=str(ROOT / "results" / "families.csv"))
+    args = ap.parse_args(argv)
+    all_below = args.all_below if args.all_below is not None else (40 if args.quick else 0)
+    wanted = set(filter(None, args.families.split(",")))
+    from lamodel.io.jsonspec import structure_from_json
+    print("multi-leaf walls: skipped (no generator)")
+    rows = []
+    for fam, name, build in cases(args.quick):
+        if wanted and fam not in wanted:
+            continue
+        spec = build()
+        nb = structure_from_json(spec).n_blocks
+        row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work))
+        rows.append(row)
+        print(f"{fam:9s} {name:26s} {nb:5d} blocks  {row['status']:13s} alpha {row.get('alpha', np.nan):.6f}  "
+              f"{row.get('path', ''):21s} first {row.get('t_first', np.nan):6.2f} s  best "
+              f"{row.get('t_best', np.nan):6.2f} s  process {row['process']:6.1f} s  LPs {row.get('lps', 0)}"
+              f"  least {row.get('least', np.nan):.6f}", flush=True)
+    df = pd.DataFrame(rows)
+    Path(args.csv).parent.mkdir(parents=True, exist_ok=True)
+    df.to_csv(args.csv, index=False)
+    with pd.option_context("display.width", 200, "display.max_columns", 20):
+        print(summarise(df).to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print(f"cases: {args.csv}")
+
+
+if __name__ == "__main__":
+    main()
