@@ -38,3 +38,12 @@ def numbers(count: int | None = None, what: str = "comma-separated numbers"):
     split = lambda t: [float(x) for x in t.replace(" ", "").split(",") if x != ""]  # noqa: E731
     finite = lambda v: v and all(abs(x) < float("inf") for x in v) and (count is None or len(v) == count)  # noqa: E731
     return number(split, finite, what)
+
+
+def rolling_arguments(a):
+    """The options of a rolling load across the top (``a``: a parser's add_argument)."""
+    a("--rolling", metavar="FX,FY", type=numbers(2, "two numbers FX,FY"), help="a rolling point load (per axle) "
+      "moved across the top; it replaces the file's live loads")
+    a("--axles", metavar="D1,D2,...", type=numbers(), help="offsets of the axles from the lead axle (default 0)")
+    a("--positions", metavar="X1,X2,...", type=numbers(), help="positions of the lead axle (default: the file's, "
+      "else the midpoints of the top edges)")

@@ -10,7 +10,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .arguments import SEED, numbers, seconds, tolerance, whole
+from .arguments import SEED, rolling_arguments, seconds, tolerance, whole
+from .io.options3d import add_input_arguments, input_options  # argparse only: light
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
                       exit_status, interrupted, run_reporting, unwatch_signals, watch_signals)
 
@@ -65,19 +66,12 @@ def _solve_arguments(p):
     a("--report", metavar="FILE.html", help="write one self-contained HTML report")
     a("--animate", metavar="FILE.gif", help="write a GIF of the mechanism growing from rest")
     a("--prove", type=seconds, metavar="SECONDS", help="seconds for the proven lower bound alpha_lower in summary.csv")
-    a("--rolling", metavar="FX,FY", type=numbers(2, "two numbers FX,FY"), help="a rolling point load (per axle) "
-      "moved across the top; it replaces the file's live loads")
-    a("--axles", metavar="D1,D2,...", type=numbers(), help="offsets of the axles from the lead axle (default 0)")
-    a("--positions", metavar="X1,X2,...", type=numbers(), help="positions of the lead axle (default: the file's, "
-      "else the midpoints of the top edges)")
-    a("--view", metavar="FILE.html", help="3D: one self-contained HTML file in which to turn the structure and its "
-      "mechanism")
-    from .io.options3d import add_input_arguments
+    rolling_arguments(a)
+    a("--view", metavar="FILE.html", help="3D: one self-contained HTML page to turn the structure and its mechanism")
     add_input_arguments(p)
 
 
 def _solve(args, prog) -> int:
-    from .io.options3d import input_options
     from .output.present import analyse
     from .search.options import SolveOptions
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, ga_workers=args.workers,
@@ -139,13 +133,11 @@ def _build_arguments(p):
     p.add_argument("geometry", help="JSON geometry file (see lamodel.io.jsonspec)")
     p.add_argument("-o", "--output", help="output .dat file (default: next to the JSON, with .dat)")
     p.add_argument("--name", help="instance name (default: the JSON 'name' or the file stem)")
-    from .io.options3d import add_input_arguments
     add_input_arguments(p)
 
 
 def _build(args, prog) -> int:
     from .io import build_dat
-    from .io.options3d import input_options
     from .output.tables3d import build_summary3d
 
     if (line := build_summary3d(args.geometry, **input_options(args))) is not None:  # 3D: contacts summary

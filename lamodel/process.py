@@ -152,7 +152,7 @@ def run_reporting(work, prog: str, debug: bool = False) -> int:
     ...``, status 1 (``debug``: with the traceback)."""
     from .errors import InputError, OutputError
     try:
-        return work()
+        status = work()
     except KeyboardInterrupt:
         return interrupted(prog)
     except Exception as exc:
@@ -170,3 +170,8 @@ def run_reporting(work, prog: str, debug: bool = False) -> int:
         print(f"{prog}: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
               file=sys.stderr)
         return EXIT_FAILED
+    if stop_signal() is not None and status != exit_status():
+        # the signal's KeyboardInterrupt was swallowed where Python ignores exceptions (an
+        # import lock's callback, a finaliser): the run went on, but it was asked to stop
+        return interrupted(prog)
+    return status
