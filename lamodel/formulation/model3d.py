@@ -1,4 +1,4 @@
-"""The seed's eq. (5) in space as a Pyomo model: the Coulomb cone as a quadratic constraint.
+"""The seed's eq. (5) in space as a Pyomo model: the Coulomb cone as a quadratic constraint::
 
     alpha_c = min alpha
         s in S            : equilibrium (6 rows a block) and ``T1^2 + T2^2 <= mu^2 N^2``, N <= 0

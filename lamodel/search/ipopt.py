@@ -1,7 +1,7 @@
 """Ipopt on eq. (5) in worker processes: each builds the Pyomo model once, then solves
 the relaxed bilinear condition 0 <= alpha_K - alpha <= epsilon with epsilon driven to 0
 (warm starts), from the states the LP search found. Every Ipopt point is certified by the
-parent (:mod:`.certify`); nothing Ipopt says is reported unchecked.
+parent (:mod:`lamodel.search.certify`); nothing Ipopt says is reported unchecked.
 """
 from __future__ import annotations
 

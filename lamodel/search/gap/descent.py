@@ -1,6 +1,6 @@
 """Descent from a certified state: each step a lower certified state, or the end.
 
-Two kinds of step, each certified (:mod:`.certify`): mechanisms for the state's own
+Two kinds of step, each certified (:mod:`lamodel.search.gap.certify`): mechanisms for the state's own
 cohesions restricted to the rows its statics holds (at the two tightest active
 tolerances), then a pressure step (release the held rows whose lambdas the certification
 LP would like positive). alpha never increases.
