@@ -67,6 +67,7 @@ def test_bound_is_sound_on_random_piers(case):
     check_sound(case)
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(with_friction_and_load(trilithons()))
 def test_bound_is_sound_on_random_trilithons(case):
@@ -81,6 +82,7 @@ def trilithon(mu):
     return structure_from_json({"name": "trilithon", "mu": mu, "live_load": [1.0, 0.0], "blocks": blocks})
 
 
+@pytest.mark.slow
 def test_branching_raises_the_bound_beyond_the_rounds_and_stays_below_the_truth():
     """A trilithon sliding on the ground (alpha_c = mu): per-contact minima of the two
     piers' normal forces undercount their sum, so the rounds stall below alpha_c; the

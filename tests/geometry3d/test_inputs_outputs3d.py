@@ -141,6 +141,7 @@ def test_csv_tables_rebuild_block_equilibrium(tmp_path):
     assert len(contacts) == s.n_points and set(contacts["interface"]) == set(s.interfaces)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not Path("/usr/bin/chromium").exists() and not os.environ.get("CI"), reason="Debian chromium not installed (make test installs it; CI must have it)")
 def test_view_is_self_contained_and_renders_in_headless_chromium(tmp_path):
     s = structure3d_from_spec(G.facade(plan="L"))

@@ -48,6 +48,7 @@ def test_out_of_plane_wall_overturns_as_a_whole(name, courses):
     assert r.alpha == pytest.approx(depth / (1.75 * courses), abs=1e-6)
 
 
+@pytest.mark.slow
 def test_extruded_wall55_explored_reaches_below_its_first_certificate():
     # the continuation ladders certify 0.557520 (the planar search's best is 0.557416)
     r = solve3d(extrude(read(INSTANCES / "wall55.dat"), depth=1.0))
