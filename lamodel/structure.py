@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import InputError
+from .validation import check_ends, check_finite, check_friction, check_ids, check_live, check_touched, first
 
 #: Per-block and per-contact data, by the names of the Pyomo model's parameters and of the
 #: .dat files (:mod:`lamodel.io.datfile`, :mod:`lamodel.formulation.model`).
@@ -118,60 +119,23 @@ class Structure:
     def validate(self) -> "Structure":
         """Raise InputError on anything that cannot describe a block assembly."""
         where = f"structure '{self.name}'"
-        if self.n_blocks == 0:
-            raise InputError(f"{where}: the set of blocks is empty; expected at least one movable block")
-        if self.n_contacts == 0:
-            raise InputError(f"{where}: there are no contacts; expected blocks resting on supports or on each other")
-        for kind, ids in (("block", self.blocks), ("support", self.supports), ("contact", self.contacts)):
-            seen = set()
-            for i in ids:
-                if not i.strip():
-                    raise InputError(f"{where}: a {kind} id is empty; expected non-empty ids")
-                if i in seen:
-                    raise InputError(f"{where}: {kind} '{i}' is declared twice; expected unique ids")
-                seen.add(i)
-        both = set(self.blocks) & set(self.supports)
-        if both:
-            raise InputError(f"{where}: '{sorted(both)[0]}' is both a block and a support; expected one or the other")
-        for name, arr in (("x/y", self.centroid), ("dead", self.dead), ("live", self.live),
-                          ("dead_m", self.dead_m), ("live_m", self.live_m),
-                          ("centre", self.centre), ("normal", self.normal), ("d", self.d), ("mu", self.mu)):
-            bad = ~np.isfinite(arr)
-            if bad.any():
-                i = np.argwhere(bad)[0][0]
-                per_block = ("x/y", "dead", "live", "dead_m", "live_m")
-                owner = self.blocks[i] if arr.shape[0] == self.n_blocks and name in per_block else self.contacts[i]
-                raise InputError(f"{where}: {name} of '{owner}' is not a finite number; expected finite values")
-        known = set(self.blocks) | set(self.supports)
-        for k, a, b in zip(self.contacts, self.block_a, self.block_b):
-            for end, x in (("block_a", a), ("block_b", b)):
-                if x not in known:
-                    raise InputError(f"{where}: contact '{k}' names unknown {end} '{x}'; expected a declared block or support")
-            if a == b:
-                raise InputError(f"{where}: contact '{k}' joins '{a}' to itself; expected two different bodies")
-            if a in self.supports and b in self.supports:
-                raise InputError(f"{where}: contact '{k}' joins two supports '{a}' and '{b}'; expected at least one movable block")
+        check_ids(where, self.blocks, self.supports, ("contact", self.contacts), self.n_contacts > 0)
+        block = lambda i: f"'{self.blocks[i]}'"  # noqa: E731
+        contact = lambda i: f"'{self.contacts[i]}'"  # noqa: E731
+        check_finite(where, [("x/y", self.centroid, block), ("dead", self.dead, block), ("live", self.live, block),
+                             ("dead_m", self.dead_m, block), ("live_m", self.live_m, block),
+                             ("centre", self.centre, contact), ("normal", self.normal, contact),
+                             ("d", self.d, contact), ("mu", self.mu, contact)])
+        check_ends(where, "contact", self.contacts, self.block_a, self.block_b, self.blocks, self.supports)
         norm = np.hypot(self.normal[:, 0], self.normal[:, 1])
-        bad = np.flatnonzero(np.abs(norm - 1.0) > 1e-6)
-        if bad.size:
-            k = bad[0]
+        k = first(np.abs(norm - 1.0) > 1e-6)
+        if k is not None:
             raise InputError(f"{where}: normal of contact '{self.contacts[k]}' has length {norm[k]:.6g}; expected a unit vector")
-        bad = np.flatnonzero(self.d <= 0)
-        if bad.size:
-            k = bad[0]
+        k = first(self.d <= 0)
+        if k is not None:
             raise InputError(f"{where}: d of contact '{self.contacts[k]}' is {self.d[k]:.6g}; expected a half-length > 0")
-        bad = np.flatnonzero(self.mu < 0)
-        if bad.size:
-            k = bad[0]
-            raise InputError(f"{where}: mu of contact '{self.contacts[k]}' is {self.mu[k]:.6g}; expected a friction coefficient >= 0")
-        ia, ib = self.contact_blocks()
-        touched = np.zeros(self.n_blocks, dtype=bool)
-        touched[ia[ia >= 0]] = True
-        touched[ib[ib >= 0]] = True
-        if not touched.all():
-            j = int(np.flatnonzero(~touched)[0])
-            raise InputError(f"{where}: block '{self.blocks[j]}' touches nothing (a free body); expected every block to have a contact")
+        check_friction(where, self.mu, lambda i: f"contact '{self.contacts[i]}'")
+        check_touched(where, self.blocks, *self.contact_blocks())
         # a file of load cases or a rolling load is solved per case / position (lamodel.loads)
-        if not (np.any(self.live) or np.any(self.live_m) or self.cases or self.rolling):
-            raise InputError(f"{where}: every live load is zero; expected a live load for alpha to multiply")
+        check_live(where, bool(np.any(self.live) or np.any(self.live_m) or self.cases or self.rolling))
         return self

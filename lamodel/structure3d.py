@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import InputError
+from .validation import check_ends, check_finite, check_friction, check_ids, check_live, check_touched, first
 
 
 @dataclass
@@ -117,66 +118,29 @@ class Structure3D:
     def validate(self) -> "Structure3D":
         """Raise InputError on anything that cannot describe a block assembly in space."""
         where = f"structure '{self.name}'"
-        if self.n_blocks == 0:
-            raise InputError(f"{where}: the set of blocks is empty; expected at least one movable block")
-        if self.n_interfaces == 0 or self.n_points == 0:
-            raise InputError(f"{where}: there are no contacts; expected blocks resting on supports or on each other")
-        for kind, ids in (("block", self.blocks), ("support", self.supports), ("interface", self.interfaces)):
-            seen = set()
-            for i in ids:
-                if not i.strip():
-                    raise InputError(f"{where}: a {kind} id is empty; expected non-empty ids")
-                if i in seen:
-                    raise InputError(f"{where}: {kind} '{i}' is declared twice; expected unique ids")
-                seen.add(i)
-        both = set(self.blocks) & set(self.supports)
-        if both:
-            raise InputError(f"{where}: '{sorted(both)[0]}' is both a block and a support; expected one or the other")
-        for name, arr in (("centroid", self.centroid), ("dead", self.dead), ("live", self.live),
-                          ("dead_m", self.dead_m), ("live_m", self.live_m)):
-            bad = ~np.isfinite(arr)
-            if bad.any():
-                j = int(np.argwhere(bad)[0][0])
-                raise InputError(f"{where}: {name} of block '{self.blocks[j]}' is not a finite number; expected finite values")
-        for name, arr in (("point", self.point), ("normal", self.normal), ("tangent1", self.tangent1),
-                          ("tangent2", self.tangent2), ("mu", self.mu)):
-            bad = ~np.isfinite(arr)
-            if bad.any():
-                i = int(np.argwhere(bad)[0][0])
-                k = self.interfaces[self.point_interface[i]]
-                raise InputError(f"{where}: {name} of a contact point of interface '{k}' is not a finite number; expected finite values")
+        check_ids(where, self.blocks, self.supports, ("interface", self.interfaces),
+                  self.n_interfaces > 0 and self.n_points > 0)
+        block = lambda j: f"block '{self.blocks[j]}'"  # noqa: E731
+        check_finite(where, [(name, arr, block) for name, arr in (
+            ("centroid", self.centroid), ("dead", self.dead), ("live", self.live),
+            ("dead_m", self.dead_m), ("live_m", self.live_m))])
+        at_point = lambda i: f"a contact point of interface '{self.interfaces[self.point_interface[i]]}'"  # noqa: E731
+        check_finite(where, [(name, arr, at_point) for name, arr in (
+            ("point", self.point), ("normal", self.normal), ("tangent1", self.tangent1),
+            ("tangent2", self.tangent2), ("mu", self.mu))])
         if self.point_interface.min() < 0 or self.point_interface.max() >= self.n_interfaces:
             raise InputError(f"{where}: a contact point names an interface that does not exist")
-        known = set(self.blocks) | set(self.supports)
-        for k, a, b in zip(self.interfaces, self.iface_a, self.iface_b):
-            for end, x in (("a", a), ("b", b)):
-                if x not in known:
-                    raise InputError(f"{where}: interface '{k}' names unknown body {end} '{x}'; expected a declared block or support")
-            if a == b:
-                raise InputError(f"{where}: interface '{k}' joins '{a}' to itself; expected two different bodies")
-            if a in self.supports and b in self.supports:
-                raise InputError(f"{where}: interface '{k}' joins two supports '{a}' and '{b}'; expected at least one movable block")
+        check_ends(where, "interface", self.interfaces, self.iface_a, self.iface_b, self.blocks, self.supports,
+                   ends=("body a", "body b"))
         frame = np.stack([self.normal, self.tangent1, self.tangent2], axis=1)  # (np, 3, 3)
         err = np.abs(np.einsum("pij,pkj->pik", frame, frame) - np.eye(3)).max(axis=(1, 2))
-        det = np.linalg.det(frame)
-        bad = np.flatnonzero((err > 1e-6) | (det < 0))
-        if bad.size:
-            k = self.interfaces[self.point_interface[bad[0]]]
-            raise InputError(f"{where}: the frame (n, t1, t2) of a contact point of interface '{k}' is not "
+        i = first((err > 1e-6) | (np.linalg.det(frame) < 0))
+        if i is not None:
+            raise InputError(f"{where}: the frame (n, t1, t2) of {at_point(i)} is not "
                              "orthonormal and right-handed; expected unit normal and tangents")
-        bad = np.flatnonzero(self.mu < 0)
-        if bad.size:
-            k = self.interfaces[self.point_interface[bad[0]]]
-            raise InputError(f"{where}: mu of interface '{k}' is {self.mu[bad[0]]:.6g}; expected a friction coefficient >= 0")
-        ia, ib = self.interface_blocks()
-        touched = np.zeros(self.n_blocks, dtype=bool)
-        touched[ia[ia >= 0]] = True
-        touched[ib[ib >= 0]] = True
-        if not touched.all():
-            j = int(np.flatnonzero(~touched)[0])
-            raise InputError(f"{where}: block '{self.blocks[j]}' touches nothing (a free body); expected every block to have a contact")
-        if not (np.any(self.live) or np.any(self.live_m)):
-            raise InputError(f"{where}: every live load is zero; expected a live load for alpha to multiply")
+        check_friction(where, self.mu, lambda i: f"interface '{self.interfaces[self.point_interface[i]]}'")
+        check_touched(where, self.blocks, *self.interface_blocks())
+        check_live(where, bool(np.any(self.live) or np.any(self.live_m)))
         return self
 
 
