@@ -36,7 +36,8 @@ from ..geometry.interfaces3d import find_interfaces, interface_points, parse_con
 from ..geometry.hulls import convex_polyhedra
 from ..geometry.polyhedra import polyhedron
 from ..structure3d import Structure3D, tangent_frame
-from .jsonspec import _number, _units, _warn_unknown
+from .jsonfields import (blocks_of, body_head, body_support_mu, check_supports, load_spec, number, units, validated,
+                         warn_unknown, writes_live)
 
 #: Geometric tolerance relative to the structure's size (diagonal of its bounding box):
 #: loose enough for CAD files written in single precision.
@@ -62,44 +63,21 @@ def is_3d_spec(spec) -> bool:
 def _vector3(value, where, what):
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise InputError(f"{where}: {what} is {json.dumps(value)[:60]}; expected [x, y, z] numbers")
-    return np.array([_number(v, where, what) for v in value])
+    return np.array([number(v, where, what) for v in value])
 
 
 def _bodies(spec, where, mu_all):
-    bodies = spec.get("blocks")
-    if not isinstance(bodies, list) or not bodies:
-        raise InputError(f"{where}: 'blocks' is missing or empty; expected a list of blocks with 'id' and 'vertices'")
+    bodies = blocks_of(spec, where)
     seen, out, unknown = {}, [], set()
     for pos, body in enumerate(bodies):
-        if not isinstance(body, dict):
-            raise InputError(f"{where}: blocks[{pos}] is {json.dumps(body)[:40]}; expected an object with 'id' and 'vertices'")
-        if body.get("id") is None or isinstance(body["id"], (dict, list, bool)):
-            raise InputError(f"{where}: blocks[{pos}] has no valid 'id'; expected a string or integer id")
-        bid = str(body["id"])
-        if not bid or any(c.isspace() for c in bid):
-            raise InputError(f"{where}: blocks[{pos}] has the id {json.dumps(body['id'])}; expected a non-empty "
-                             "id without spaces")
-        at = f"{where}: block '{bid}'"
-        if bid in seen:
-            raise InputError(f"{at} is declared twice (blocks[{seen[bid]}] and blocks[{pos}]); expected unique ids")
-        seen[bid] = pos
+        bid, at = body_head(body, pos, where, seen, "a list of [x, y, z] corners")
         unknown |= set(body) - set(BODY_FIELDS_3D)
-        if "vertices" not in body:
-            raise InputError(f"{at} has no 'vertices'; expected a list of [x, y, z] corners")
-        support = body.get("support", False)
-        if not isinstance(support, bool):
-            raise InputError(f"{at}: 'support' is {json.dumps(support)}; expected true or false")
-        if "mu" in body:
-            mu = _number(body["mu"], at, "'mu'", 0.0)
-        elif mu_all is None:
-            raise InputError(f"{at} has no friction coefficient; expected a top-level 'mu' or a 'mu' on every block")
-        else:
-            mu = mu_all
+        support, mu = body_support_mu(body, at, mu_all)
         over = {k: _vector3(body[k], at, f"'{k}'") for k in ("dead", "live", "dead_m", "live_m")
                 if k in body and not support}
         out.append((bid, body["vertices"], body.get("faces"), support, mu, over))
     if unknown:
-        _warn_unknown(where, unknown, BODY_FIELDS_3D, "block")
+        warn_unknown(where, unknown, BODY_FIELDS_3D, "block")
     return out
 
 
@@ -133,21 +111,18 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     Raises InputError, one line naming the block, for anything that is not a block assembly.
     """
     where = where or f"geometry '{spec.get('name', '<dict>')}'"
-    _warn_unknown(where, spec.keys(), TOP_FIELDS_3D, "top-level")
+    warn_unknown(where, spec.keys(), TOP_FIELDS_3D, "top-level")
     name = str(name if name is not None else spec.get("name") or "structure")
-    mu_all = _number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
-    unit_weight = _number(spec.get("unit_weight", 1.0), where, "'unit_weight'", 0.0)
+    mu_all = number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
+    unit_weight = number(spec.get("unit_weight", 1.0), where, "'unit_weight'", 0.0)
     live_load = _vector3(spec.get("live_load", [1.0, 0.0, 0.0]), where, "'live_load'")
-    rel_tol = _number(tolerance if tolerance is not None else spec.get("tolerance", DEFAULT_TOLERANCE_3D),
+    rel_tol = number(tolerance if tolerance is not None else spec.get("tolerance", DEFAULT_TOLERANCE_3D),
                       where, "'tolerance'", 0.0)
     grid = parse_contact_points(contact_points if contact_points is not None else spec.get("contact_points"))
     bodies = _bodies(spec, where, mu_all)
     ids = [b[0] for b in bodies]
     is_support = np.array([b[3] for b in bodies], dtype=bool)
-    if not is_support.any():
-        raise InputError(f"{where}: no block is a support; expected at least one body with \"support\": true")
-    if is_support.all():
-        raise InputError(f"{where}: every body is a support; expected at least one movable block")
+    check_supports(where, is_support)
     try:
         allv = np.vstack([np.asarray(b[1], dtype=float).reshape(-1, 3) for b in bodies])
     except (TypeError, ValueError):
@@ -170,7 +145,7 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     weight = unit_weight * volume
     dead = np.c_[np.zeros((len(moving), 2)), -weight]
     live = weight[:, None] * live_load[None, :]
-    if "live_load" not in spec and _writes_live(spec):
+    if "live_load" not in spec and writes_live(spec):
         live[:] = 0.0  # alpha multiplies only the live loads the file writes
     dead_m, live_m = np.zeros((len(moving), 3)), np.zeros((len(moving), 3))
     rows = {"dead": dead, "live": live, "dead_m": dead_m, "live_m": live_m}
@@ -200,11 +175,8 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
         point_interface=np.repeat(np.arange(len(interfaces)), count),
         point=np.vstack(pts) if pts else np.zeros((0, 3)), normal=normal, tangent1=t1, tangent2=t2,
         mu=np.repeat(iface_mu, count), dead_m=dead_m, live_m=live_m, volume=volume,
-        polyhedra={p.id: (p.vertices, p.faces) for p in polys}, units=_units(spec, where), meta=meta)
-    try:
-        return s.validate()
-    except InputError as exc:  # name the file, not the structure ("structure 'x': ...")
-        raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
+        polyhedra={p.id: (p.vertices, p.faces) for p in polys}, units=units(spec, where), meta=meta)
+    return validated(s, where)
 
 
 def _is_points(v) -> bool:
@@ -212,11 +184,6 @@ def _is_points(v) -> bool:
         return np.asarray(v, dtype=float).ndim == 2 and np.asarray(v).shape[1] == 3
     except (TypeError, ValueError):
         return False
-
-
-def _writes_live(spec) -> bool:
-    loads = spec.get("loads")
-    return isinstance(loads, list) and any(isinstance(x, dict) and x.get("kind", "live") == "live" for x in loads)
 
 
 def _point_loads(spec, where, row, centroid, rows):
@@ -228,7 +195,7 @@ def _point_loads(spec, where, row, centroid, rows):
         at = f"{where}: loads[{k}]"
         if not isinstance(load, dict):
             raise InputError(f"{at} is {json.dumps(load)[:40]}; expected an object with 'block', 'at', 'force'")
-        _warn_unknown(at, load.keys(), ("block", "at", "force", "kind", "case"), "load")
+        warn_unknown(at, load.keys(), ("block", "at", "force", "kind", "case"), "load")
         block = str(load.get("block"))
         if block not in row:
             raise InputError(f"{at}: block '{block}' is not a movable block; expected the id of a block")
@@ -245,6 +212,5 @@ def _point_loads(spec, where, row, centroid, rows):
 
 def read_json3d(path_or_spec, name=None, **options) -> Structure3D:
     """A Structure3D from a 3D lamodel JSON file or dict (options: tolerance, contact_points)."""
-    from .jsonspec import _load_spec
-    spec, where = _load_spec(path_or_spec)
+    spec, where = load_spec(path_or_spec)
     return structure3d_from_spec(spec, where, name=name, **options)

@@ -60,14 +60,14 @@ for interpenetration, collinear facing edges for contacts) run vectorised over a
 from __future__ import annotations
 
 import json
-import math
 import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from .files import read_text
+from .jsonfields import (blocks_of, body_head, body_support_mu, check_supports, json_object, load_spec, number,
+                         units, validated, warn_unknown, writes_live)
 from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
 from ..structure import Structure
 
@@ -80,7 +80,6 @@ TOP_FIELDS = ("name", "description", "mu", "unit_weight", "live_load", "toleranc
 BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
 LOAD_FIELDS = ("block", "at", "force", "kind", "case")
 ROLLING_FIELDS = ("force", "axles", "positions")
-UNIT_FIELDS = ("length", "force")
 
 
 # ================================================================== reading the JSON
@@ -92,101 +91,42 @@ def structure_from_json(source, name: str | None = None, tolerance: float | None
     :class:`InputError` naming the file and the body for anything that is not a valid
     assembly of convex blocks; unknown fields only give a warning.
     """
-    spec, where = _load_spec(source)
+    spec, where = load_spec(source)
     return _build(spec, where, name=name, tolerance=tolerance)
-
-
-def _load_spec(source):
-    if isinstance(source, dict):
-        return source, f"geometry '{source.get('name', '<dict>')}'"
-    path = Path(source)
-    where = str(path)
-    text = read_text(path, "JSON geometry file")
-    try:
-        spec = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{where}: malformed JSON at line {exc.lineno}, column {exc.colno} ({exc.msg}); "
-                         "expected a JSON object describing the blocks") from None
-    except RecursionError:
-        raise InputError(f"{where}: JSON nested too deeply to read; expected a JSON object describing the "
-                         "blocks") from None
-    if not isinstance(spec, dict):
-        raise InputError(f"{where}: the file holds a JSON {type(spec).__name__}; expected a JSON object with a 'blocks' list")
-    if "name" not in spec:
-        spec = dict(spec, name=path.stem)
-    return spec, where
-
-
-def _number(value, where, what, minimum=None):
-    """A finite float from JSON, or an InputError saying what was expected."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}: {what} is {json.dumps(value)}; expected a finite number")
-    if minimum is not None and value < minimum:
-        raise InputError(f"{where}: {what} is {value}; expected a number >= {minimum}")
-    return float(value)
 
 
 def _vector2(value, where, what):
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise InputError(f"{where}: {what} is {json.dumps(value)}; expected a pair [x, y] of numbers")
-    return np.array([_number(v, where, what) for v in value])
-
-
-def _warn_unknown(where, keys, known, kind):
-    unknown = sorted(set(keys) - set(known))
-    if unknown:
-        warnings.warn(f"{where}: unknown {kind} field(s) {', '.join(repr(k) for k in unknown)} ignored; "
-                      f"known fields are {', '.join(known)}", stacklevel=4)
+    return np.array([number(v, where, what) for v in value])
 
 
 def _build(spec, where, name=None, tolerance=None) -> Structure:
-    _warn_unknown(where, spec.keys(), TOP_FIELDS, "top-level")
-    bodies = spec.get("blocks")
-    if not isinstance(bodies, list) or not bodies:
-        raise InputError(f"{where}: 'blocks' is missing or empty; expected a list of blocks with 'id' and 'vertices'")
+    warn_unknown(where, spec.keys(), TOP_FIELDS, "top-level")
+    bodies = blocks_of(spec, where)
     name = str(name if name is not None else spec.get("name") or "structure")
-    mu_all = _number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
-    unit_weight = _number(spec.get("unit_weight", 1.0), where, "'unit_weight'", 0.0)
+    mu_all = number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
+    unit_weight = number(spec.get("unit_weight", 1.0), where, "'unit_weight'", 0.0)
     live_load = _vector2(spec.get("live_load", [1.0, 0.0]), where, "'live_load'")
     rel_tol = tolerance if tolerance is not None else spec.get("tolerance", DEFAULT_TOLERANCE)
-    rel_tol = _number(rel_tol, where, "'tolerance'", 0.0)
+    rel_tol = number(rel_tol, where, "'tolerance'", 0.0)
 
     # --- per body: id, raw vertices, flags (parsed first: the tolerance needs the size)
     ids, raw, is_support, mus, dead_over, live_over = [], [], [], [], {}, {}
     moment_over = {"dead_m": {}, "live_m": {}}
     seen, unknown = {}, set()
     for pos, body in enumerate(bodies):
-        if not isinstance(body, dict):
-            raise InputError(f"{where}: blocks[{pos}] is {json.dumps(body)[:40]}; expected an object with 'id' and 'vertices'")
-        if "id" not in body or isinstance(body["id"], (dict, list, bool)) or body["id"] is None:
-            raise InputError(f"{where}: blocks[{pos}] has no valid 'id'; expected a string or integer id")
-        bid = str(body["id"])
-        if not bid or any(c.isspace() for c in bid):  # ids are tokens of .dat files and CSV tables
-            raise InputError(f"{where}: blocks[{pos}] has the id {json.dumps(body['id'])}; expected a non-empty id "
-                             "without spaces")
-        at = f"{where}: block '{bid}'"
-        if bid in seen:
-            raise InputError(f"{at} is declared twice (blocks[{seen[bid]}] and blocks[{pos}]); expected unique ids")
-        seen[bid] = pos
+        bid, at = body_head(body, pos, where, seen, "a list of [x, y] corners of a convex polygon")
         unknown |= set(body) - set(BODY_FIELDS)
-        if "vertices" not in body:
-            raise InputError(f"{at} has no 'vertices'; expected a list of [x, y] corners of a convex polygon")
         verts = body["vertices"]
         if not isinstance(verts, list) or not all(isinstance(v, (list, tuple)) and len(v) == 2 for v in verts):
             raise InputError(f"{at}: 'vertices' is not a list of [x, y] pairs; expected [[x1, y1], [x2, y2], ...]")
         if len(verts) < 3:
             raise InputError(f"{at} has {len(verts)} vertices; expected at least 3 corners of a convex polygon")
-        raw.append(np.array([[_number(c, at, "a vertex coordinate") for c in v] for v in verts]))
-        support = body.get("support", False)
-        if not isinstance(support, bool):
-            raise InputError(f"{at}: 'support' is {json.dumps(support)}; expected true or false")
+        raw.append(np.array([[number(c, at, "a vertex coordinate") for c in v] for v in verts]))
+        support, mu = body_support_mu(body, at, mu_all)
         is_support.append(support)
-        if "mu" in body:
-            mus.append(_number(body["mu"], at, "'mu'", 0.0))
-        elif mu_all is None:
-            raise InputError(f"{at} has no friction coefficient; expected a top-level 'mu' or a 'mu' on every block")
-        else:
-            mus.append(mu_all)
+        mus.append(mu)
         for key, store in (("dead", dead_over), ("live", live_over)):
             if key in body:
                 if support:
@@ -195,15 +135,12 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
                     store[pos] = _vector2(body[key], at, f"'{key}'")
         for key, store in moment_over.items():
             if key in body and not support:
-                store[pos] = _number(body[key], at, f"'{key}'")
+                store[pos] = number(body[key], at, f"'{key}'")
         ids.append(bid)
     if unknown:
-        _warn_unknown(where, unknown, BODY_FIELDS, "block")
+        warn_unknown(where, unknown, BODY_FIELDS, "block")
     is_support = np.array(is_support, dtype=bool)
-    if not is_support.any():
-        raise InputError(f"{where}: no block is a support; expected at least one body with \"support\": true")
-    if is_support.all():
-        raise InputError(f"{where}: every body is a support; expected at least one movable block")
+    check_supports(where, is_support)
 
     allv = np.vstack(raw)
     size = float(np.hypot(*(allv.max(axis=0) - allv.min(axis=0)))) or 1.0
@@ -237,7 +174,7 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
     for store, arr in ((moment_over["dead_m"], dead_m), (moment_over["live_m"], live_m)):
         for pos, m in store.items():
             arr[row[pos]] = m
-    if "live_load" not in spec and _writes_live(spec):
+    if "live_load" not in spec and writes_live(spec, also=("rolling_load",)):
         live[:] = 0.0  # alpha multiplies only the live loads the file writes
 
     mus = np.asarray(mus)
@@ -256,7 +193,7 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
         d=contacts["d"],
         mu=np.minimum(mus[ia], mus[ib]),
         polygons={b: p for b, p in zip(ids, polygons)},
-        dead_m=dead_m, live_m=live_m, units=_units(spec, where),
+        dead_m=dead_m, live_m=live_m, units=units(spec, where),
     )
     _point_loads(spec, where, structure, tol)
     if "rolling_load" in spec:
@@ -264,34 +201,7 @@ def _build(spec, where, name=None, tolerance=None) -> Structure:
         if structure.cases:
             raise InputError(f"{where}: the file has load cases and a rolling load; expected one or the other "
                              "(a rolling load is a study of its own)")
-    try:
-        return structure.validate()
-    except InputError as exc:  # name the file, not the structure ("structure 'x': ...")
-        raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
-
-
-def _writes_live(spec) -> bool:
-    loads = spec.get("loads")
-    point = isinstance(loads, list) and any(isinstance(x, dict) and x.get("kind", "live") == "live" for x in loads)
-    return point or "rolling_load" in spec
-
-
-def _object(value, where, what, known):
-    if not isinstance(value, dict):
-        raise InputError(f"{where}: {what} is {json.dumps(value)[:60]}; expected an object with fields {', '.join(known)}")
-    _warn_unknown(where, value.keys(), known, what)
-    return value
-
-
-def _units(spec, where) -> dict:
-    if "units" not in spec:
-        return {}
-    units = _object(spec["units"], where, "'units'", UNIT_FIELDS)
-    for key, value in units.items():
-        if key in UNIT_FIELDS and (not isinstance(value, str) or not value.strip()):
-            raise InputError(f"{where}: units '{key}' is {json.dumps(value)}; expected a unit name such as "
-                             + ("'m'" if key == "length" else "'kN'"))
-    return {k: units[k].strip() for k in UNIT_FIELDS if k in units}
+    return validated(structure, where)
 
 
 def _point_loads(spec, where, structure, tol):
@@ -306,7 +216,7 @@ def _point_loads(spec, where, structure, tol):
     parsed = []
     for i, raw in enumerate(loads):
         at = f"{where}: loads[{i}]"
-        load = _object(raw, at, "the point load", LOAD_FIELDS)
+        load = json_object(raw, at, "the point load", LOAD_FIELDS)
         block = str(load.get("block"))
         if block not in index:
             raise InputError(f"{at} names block '{block}', which is not a movable block; expected the id of a "
@@ -346,7 +256,7 @@ def _point_loads(spec, where, structure, tol):
 
 def _rolling(value, where):
     from ..loads import RollingLoad
-    r = _object(value, where, "'rolling_load'", ROLLING_FIELDS)
+    r = json_object(value, where, "'rolling_load'", ROLLING_FIELDS)
     if "force" not in r:
         raise InputError(f"{where}: 'rolling_load' has no 'force'; expected \"force\": [fx, fy] per axle")
     force = _vector2(r["force"], where, "the rolling load's 'force'")
@@ -356,13 +266,13 @@ def _rolling(value, where):
     if not isinstance(axles, list) or not axles:
         raise InputError(f"{where}: the rolling load's 'axles' is {json.dumps(axles)}; expected a list of offsets "
                          "from the lead axle, e.g. [0, 1.5]")
-    axles = tuple(_number(a, where, "an axle offset") for a in axles)
+    axles = tuple(number(a, where, "an axle offset") for a in axles)
     positions = r.get("positions")
     if positions is not None:
         if not isinstance(positions, list) or not positions:
             raise InputError(f"{where}: the rolling load's 'positions' is {json.dumps(positions)[:40]}; expected "
                              "a list of abscissas of the lead axle (or no field: the top edges' midpoints)")
-        positions = tuple(_number(x, where, "a rolling load position") for x in positions)
+        positions = tuple(number(x, where, "a rolling load position") for x in positions)
     return RollingLoad(tuple(force), axles, positions)
 
 
