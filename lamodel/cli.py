@@ -122,9 +122,8 @@ def _compare_arguments(p):
 
 
 def _compare(args, prog) -> int:
-    from .output.compare import compare_results, print_comparison
-    from .output.results import Results
-    table, differ = compare_results(Results.read(args.a), Results.read(args.b), args.atol)
+    from .output.compare import compare_results, print_comparison, read_result
+    table, differ = compare_results(read_result(args.a), read_result(args.b), args.atol)
     return print_comparison(table, differ, args.a, args.b, args.atol)
 
 
@@ -170,7 +169,7 @@ COMMANDS = {
               _solve_arguments, _solve),
     "study": ("a parametric study from a JSON spec: one certified alpha per variant, as a table and a plot",
               _study_arguments, _study),
-    "compare": ("compare two result folders (exit 0 agree, 1 differ, 2 bad input)", _compare_arguments, _compare),
+    "compare": ("compare two result folders, planar or in space (exit 0 agree, 1 differ, 2 bad input)", _compare_arguments, _compare),
     "build": ("write the Pyomo .dat instance of a JSON polygon geometry", _build_arguments, _build),
     "table1": ("the seed's Table 1 with lamodel's certified alpha", _table1_arguments, _table1),
 }

@@ -203,13 +203,14 @@ def _infer_extra(values) -> pd.Series:
     return s.map(lambda v: "" if _is_missing(v) else str(v)).astype(object)
 
 
-def _canonical(df: pd.DataFrame, table: str, where: str) -> pd.DataFrame:
-    """The table with the contract's columns first, in order, each of its canonical dtype.
+def _canonical(df: pd.DataFrame, table: str, where: str, contract=None) -> pd.DataFrame:
+    """The table with the contract's columns first, in order, each of its canonical dtype;
+    ``contract`` (column kinds, id column) replaces the planar folder's (``TABLES``).
 
     Raises InputError on a missing column, a bad cell, a duplicated id or (for the summary)
     a number of rows other than one.
     """
-    _, kinds, id_col = TABLES[table]
+    kinds, id_col = contract or TABLES[table][1:]
     if not isinstance(df, pd.DataFrame):
         raise InputError(f"{where}: expected a table (pandas DataFrame), got {type(df).__name__}")
     df = df.reset_index(drop=True)
