@@ -120,16 +120,23 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     cannot be written.
     """
     from ..search.options import SolveOptions
+    from . import present3d
     options = options or SolveOptions()
+    structure = _read(source, warn, inputs)
+    if getattr(structure, "dimension", 2) == 3:  # in space: its own use case, its own picture
+        return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
+                                   report=report, animate=animate, moving=(rolling, axles, positions), view=view,
+                                   echo=echo)
+    present3d.refuse_spatial_options(inputs, view)
     painter = None
     if picture and not (report or animate):
-        # matplotlib loads in a second process while this one reads and solves (the report
-        # and the animation load it here anyway)
+        # the planar picture's matplotlib loads in a second process while this one solves
+        # (the report and the animation load it here anyway)
         from .painter import Painter
         painter = Painter()
     try:
-        return _analyse(source, options, out, method, seed_ga, picture, report, animate,
-                        (rolling, axles, positions), echo, warn, command, painter, prove, view, inputs)
+        return _analyse(structure, source, options, out, method, seed_ga, picture, report, animate,
+                        (rolling, axles, positions), echo, command, painter, prove)
     finally:
         if painter is not None:
             painter.close()
@@ -150,8 +157,8 @@ def _read(source, warn, inputs=None):
     return structure
 
 
-def _analyse(source, options, out, method, seed_ga, picture, report, animate, moving, echo, warn, command, painter,
-             prove=None, view=None, inputs=None):
+def _analyse(structure, source, options, out, method, seed_ga, picture, report, animate, moving, echo, command,
+             painter, prove=None):
     from ..io.files import safe_folder_name
     from ..loads import with_rolling
     from ..search.driver import solve
@@ -159,12 +166,6 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
     from .report import outcome_results
 
-    from . import present3d
-    structure = _read(source, warn, inputs)
-    if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
-        return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
-                                   report=report, animate=animate, moving=moving, view=view, echo=echo)
-    present3d.refuse_spatial_options(inputs, view)
     source = str(source) if isinstance(source, (str, os.PathLike)) else structure.name
     structure = with_rolling(structure, *moving, source=source)
     if options.scheduler:
