@@ -10,6 +10,9 @@ from pathlib import Path
 
 from ..errors import InputError
 
+#: What :func:`read` reads, in its messages.
+KINDS = ".dat (Pyomo data), .json (polygons, polyhedra, COMPAS assembly) or a mesh (.obj, .ply, .stl, .gltf, .glb)"
+
 
 def read(path, **options):
     """A validated Structure from a .dat or a 2D .json file, a Structure3D from a 3D .json
@@ -19,9 +22,9 @@ def read(path, **options):
     p = Path(path)
     ext = p.suffix.lower()
     if p.is_dir():
-        raise InputError(f"{path}: is a folder; expected a .dat instance or a .json geometry file")
+        raise InputError(f"{path}: is a folder; expected a structure file: {KINDS}")
     if not p.is_file():
-        raise InputError(f"{path}: no such file; expected a .dat instance or a .json geometry")
+        raise InputError(f"{path}: no such file; expected a structure file: {KINDS}")
     if ext == ".json":
         from .assemblies import read_3d_json
         s3 = read_3d_json(p, **options)
@@ -36,8 +39,7 @@ def read(path, **options):
     if ext == ".dat":
         from .datfile import read_dat
         return read_dat(path)
-    raise InputError(f"{path}: unknown file type '{ext}'; expected .dat (Pyomo data), .json (polygons, "
-                     "polyhedra, COMPAS assembly) or a mesh (.obj, .ply, .stl, .gltf, .glb)")
+    raise InputError(f"{path}: unknown file type '{ext}'; expected {KINDS}")
 
 
 def build_dat(geometry, output=None, name: str | None = None) -> str:

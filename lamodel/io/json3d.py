@@ -118,17 +118,19 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     live_load = _vector3(spec.get("live_load", [1.0, 0.0, 0.0]), where, "'live_load'")
     rel_tol = number(tolerance if tolerance is not None else spec.get("tolerance", DEFAULT_TOLERANCE_3D),
                       where, "'tolerance'", 0.0)
-    grid = parse_contact_points(contact_points if contact_points is not None else spec.get("contact_points"))
+    try:
+        grid = parse_contact_points(contact_points if contact_points is not None else spec.get("contact_points"))
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
     bodies = _bodies(spec, where, mu_all)
     ids = [b[0] for b in bodies]
     is_support = np.array([b[3] for b in bodies], dtype=bool)
     check_supports(where, is_support)
-    try:
-        allv = np.vstack([np.asarray(b[1], dtype=float).reshape(-1, 3) for b in bodies])
-    except (TypeError, ValueError):
-        bad = next(b[0] for b in bodies if not _is_points(b[1]))
+    bad = next((b[0] for b in bodies if not _is_points(b[1])), None)
+    if bad is not None:
         raise InputError(f"{where}: block '{bad}': 'vertices' is not a list of [x, y, z] points; "
-                         "expected [[x1, y1, z1], ...]") from None
+                         "expected [[x1, y1, z1], ...]")
+    allv = np.vstack([np.asarray(b[1], dtype=float) for b in bodies])
     finite = allv[np.isfinite(allv).all(axis=1)]
     size = float(np.linalg.norm(finite.max(axis=0) - finite.min(axis=0))) if len(finite) else 1.0
     tol = rel_tol * (size or 1.0)
@@ -180,10 +182,12 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
 
 
 def _is_points(v) -> bool:
+    """A list of [x, y, z] numbers (true and false are not numbers, as in the planar reader)."""
     try:
-        return np.asarray(v, dtype=float).ndim == 2 and np.asarray(v).shape[1] == 3
+        a = np.asarray(v, dtype=float)
     except (TypeError, ValueError):
         return False
+    return a.ndim == 2 and a.shape[1] == 3 and not any(isinstance(c, (bool, np.bool_)) for p in v for c in p)
 
 
 def _point_loads(spec, where, row, centroid, rows):

@@ -25,6 +25,8 @@ def load_spec(source):
     path = Path(source)
     where = str(path)
     text = read_text(path, "JSON geometry file")
+    if not text.strip():
+        raise InputError(f"{where}: the file is empty; expected a JSON object describing the blocks")
     try:
         spec = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -34,7 +36,8 @@ def load_spec(source):
         raise InputError(f"{where}: JSON nested too deeply to read; expected a JSON object describing the "
                          "blocks") from None
     if not isinstance(spec, dict):
-        raise InputError(f"{where}: the file holds a JSON {type(spec).__name__}; expected a JSON object with a 'blocks' list")
+        kind = "null" if spec is None else type(spec).__name__
+        raise InputError(f"{where}: the file holds a JSON {kind}; expected a JSON object with a 'blocks' list")
     if "name" not in spec:
         spec = dict(spec, name=path.stem)
     return spec, where

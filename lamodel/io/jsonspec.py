@@ -75,7 +75,7 @@ from ..structure import Structure
 #: points closer than ``DEFAULT_TOLERANCE * size`` are the same point.
 DEFAULT_TOLERANCE = 1e-9
 
-TOP_FIELDS = ("name", "description", "mu", "unit_weight", "live_load", "tolerance", "blocks", "loads", "units",
+TOP_FIELDS = ("name", "description", "dimension", "mu", "unit_weight", "live_load", "tolerance", "blocks", "loads", "units",
               "rolling_load")
 BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
 LOAD_FIELDS = ("block", "at", "force", "kind", "case")
@@ -103,6 +103,11 @@ def _vector2(value, where, what):
 
 def _build(spec, where, name=None, tolerance=None) -> Structure:
     warn_unknown(where, spec.keys(), TOP_FIELDS, "top-level")
+    dimension = spec.get("dimension", 2)
+    if dimension != 2 or isinstance(dimension, bool):
+        expected = ("2 here (a file of polyhedra is read by lamodel.io.read)" if dimension == 3 else
+                    "2 (polygons) or 3 (polyhedra)")
+        raise InputError(f"{where}: 'dimension' is {json.dumps(dimension)[:20]}; expected {expected}")
     bodies = blocks_of(spec, where)
     name = str(name if name is not None else spec.get("name") or "structure")
     mu_all = number(spec["mu"], where, "'mu'", 0.0) if "mu" in spec else None
