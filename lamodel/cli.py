@@ -11,7 +11,7 @@ import argparse
 import sys
 
 from .arguments import SEED, rolling_arguments, seconds, tolerance, whole
-from .io.options3d import add_input_arguments, input_options  # argparse only: light
+from .io.options3d import add_input_arguments, check_build_options, input_options  # argparse only: light
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
                       exit_status, interrupted, run_reporting, unwatch_signals, watch_signals)
 
@@ -129,7 +129,7 @@ def _compare(args, prog) -> int:
 
 # ------------------------------------------------------------------------------- build
 def _build_arguments(p):
-    p.add_argument("geometry", help="JSON geometry file (see lamodel.io.jsonspec)")
+    p.add_argument("geometry", help="JSON geometry file (see lamodel.io.jsonspec); in 3D: JSON, COMPAS or a mesh")
     p.add_argument("-o", "--output", help="output .dat file (default: next to the JSON, with .dat)")
     p.add_argument("--name", help="instance name (default: the JSON 'name' or the file stem)")
     add_input_arguments(p)
@@ -138,11 +138,9 @@ def _build_arguments(p):
 def _build(args, prog) -> int:
     from .io import build_dat
     from .output.tables3d import build_summary3d
-
-    if (line := build_summary3d(args.geometry, **input_options(args))) is not None:  # 3D: contacts summary
-        print(line)
-        return EXIT_OK
-    print(build_dat(args.geometry, args.output, args.name))
+    line = build_summary3d(args.geometry, **input_options(args))  # in space: the contacts summary; planar: None
+    check_build_options(args, spatial=line is not None)
+    print(line or build_dat(args.geometry, args.output, args.name))
     return EXIT_OK
 
 
@@ -170,7 +168,8 @@ COMMANDS = {
     "study": ("a parametric study from a JSON spec: one certified alpha per variant, as a table and a plot",
               _study_arguments, _study),
     "compare": ("compare two result folders, planar or in space (exit 0 agree, 1 differ, 2 bad input)", _compare_arguments, _compare),
-    "build": ("write the Pyomo .dat instance of a JSON polygon geometry", _build_arguments, _build),
+    "build": ("write the .dat instance of a JSON polygon geometry (in 3D: its contacts summary)", _build_arguments,
+              _build),
     "table1": ("the seed's Table 1 with lamodel's certified alpha", _table1_arguments, _table1),
 }
 

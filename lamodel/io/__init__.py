@@ -48,6 +48,9 @@ def build_dat(geometry, output=None, name: str | None = None) -> str:
     JSON 'name' or the file stem). Returns a one-line account of what was written."""
     from .datfile import write_dat
     from .jsonspec import structure_from_json
+    if Path(geometry).suffix.lower() != ".json":
+        raise InputError(f"{geometry}: not a .json file; expected a JSON polygon geometry (a .dat file is an "
+                         "instance already; a mesh is a structure in space)")
     output = Path(output) if output else Path(geometry).with_suffix(".dat")
     structure = structure_from_json(geometry, name=name)
     write_dat(structure, output)

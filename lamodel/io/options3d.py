@@ -2,7 +2,8 @@
 meshes): declared once here, so that every command reading a structure offers the same ones.
 
 ``add_input_arguments(parser)`` declares them; ``input_options(args)`` gives the keyword
-arguments of :func:`lamodel.io.read` (only those given: the readers' defaults stay theirs).
+arguments of :func:`lamodel.io.read` (only those given: the readers' defaults stay theirs);
+``check_build_options(args, spatial)`` refuses what ``lamodel build`` cannot honour.
 """
 from __future__ import annotations
 
@@ -45,3 +46,15 @@ def input_options(args) -> dict:
     if units:
         out["units"] = units
     return out
+
+
+def check_build_options(args, spatial: bool):
+    """InputError for ``lamodel build`` options that do not apply to its input: a .dat
+    instance's (--output, --name) for a structure in space, the 3D inputs' for a planar one."""
+    if spatial and (args.output or args.name):
+        raise InputError(f"{'--output' if args.output else '--name'}: a structure in space has no .dat instance "
+                         "(build prints its contacts summary); expected a planar geometry with it")
+    given = input_options(args)
+    if not spatial and given:
+        raise InputError(f"--{sorted(given)[0].replace('_', '-')}: applies to 3D inputs (COMPAS assemblies, "
+                         "meshes); expected a planar input without it")
