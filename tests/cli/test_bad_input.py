@@ -255,26 +255,15 @@ def fresh(tmp_path_factory):
 
 
 # ------------------------------------------------------------------ 1. bad input files
-@pytest.mark.parametrize("name", sorted(DAT_CASES))
-def test_bad_dat_file(tmp_path, capfd, name):
-    path = tmp_path / f"{name}.dat"
-    path.write_text(DAT_CASES[name][0])
+@pytest.mark.parametrize("kind, name", [("dat", k) for k in sorted(DAT_CASES)] + [("json", k) for k in sorted(JSON_CASES)],
+                         ids=lambda v: v)
+def test_bad_input_file(tmp_path, capfd, kind, name):
+    text, fragments = (DAT_CASES if kind == "dat" else JSON_CASES)[name]
+    path = tmp_path / f"{name}.{kind}"
+    path.write_text(text if isinstance(text, str) else json.dumps(text))
     p = solve_py(capfd, path, "--out", tmp_path / "out", "--starts", "0")
     line = _one_line_error(p, path=path)
-    for fragment in DAT_CASES[name][1]:
-        assert fragment in line, (fragment, line)
-    assert "expected" in line, line
-    assert not (tmp_path / "out").exists(), "bad input must not leave a result folder"
-
-
-@pytest.mark.parametrize("name", sorted(JSON_CASES))
-def test_bad_json_file(tmp_path, capfd, name):
-    spec = JSON_CASES[name][0]
-    path = tmp_path / f"{name}.json"
-    path.write_text(spec if isinstance(spec, str) else json.dumps(spec))
-    p = solve_py(capfd, path, "--out", tmp_path / "out", "--starts", "0")
-    line = _one_line_error(p, path=path)
-    for fragment in JSON_CASES[name][1]:
+    for fragment in fragments:
         assert fragment in line, (fragment, line)
     assert "expected" in line, line
     assert not (tmp_path / "out").exists(), "bad input must not leave a result folder"
