@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .assembly import Assembly
 from .errors import InputError
 from .validation import check_ends, check_finite, check_friction, check_ids, check_live, check_touched, first
 
@@ -41,7 +42,7 @@ YIELD_ROWS = ("slide+", "slide-", "hinge+", "hinge-")
 
 
 @dataclass
-class Structure:
+class Structure(Assembly):
     """A planar assembly of rigid blocks with Coulomb contacts (seed eq. 1-4)."""
 
     name: str
@@ -66,13 +67,8 @@ class Structure:
     rolling: object = None                        # a RollingLoad study, or None
 
     def __post_init__(self):
-        self.blocks = [str(b) for b in self.blocks]
-        self.supports = [str(b) for b in self.supports]
-        self.contacts = [str(c) for c in self.contacts]
-        self.block_a = [str(b) for b in self.block_a]
-        self.block_b = [str(b) for b in self.block_b]
-        f = lambda x, shape: np.asarray(x, dtype=float).reshape(shape)  # noqa: E731
-        nb, nc = len(self.blocks), len(self.contacts)
+        self._as_text("blocks", "supports", "contacts", "block_a", "block_b")
+        f, nb, nc = self._floats, len(self.blocks), len(self.contacts)
         self.centroid = f(self.centroid, (nb, 2))
         self.dead = f(self.dead, (nb, 2))
         self.live = f(self.live, (nb, 2))
@@ -83,13 +79,8 @@ class Structure:
         self.polygons = {str(k): np.asarray(v, dtype=float) for k, v in self.polygons.items()}
         self.dead_m = np.zeros(nb) if self.dead_m is None else f(self.dead_m, (nb,))
         self.live_m = np.zeros(nb) if self.live_m is None else f(self.live_m, (nb,))
-        self.units = {str(k): str(v) for k, v in (self.units or {}).items() if v}
 
     # ----------------------------------------------------------------- sizes and lookups
-    @property
-    def n_blocks(self) -> int:
-        return len(self.blocks)
-
     @property
     def n_contacts(self) -> int:
         return len(self.contacts)
@@ -98,15 +89,9 @@ class Structure:
     def tangent(self) -> np.ndarray:
         return np.column_stack([-self.normal[:, 1], self.normal[:, 0]])
 
-    def block_index(self) -> dict:
-        return {b: j for j, b in enumerate(self.blocks)}
-
     def contact_blocks(self):
         """Indices of blocks a and b per contact, -1 for a support."""
-        idx = self.block_index()
-        ia = np.array([idx.get(b, -1) for b in self.block_a], dtype=int)
-        ib = np.array([idx.get(b, -1) for b in self.block_b], dtype=int)
-        return ia, ib
+        return self._ends(self.block_a, self.block_b)
 
     def size(self) -> float:
         """A length that measures the whole structure (diagonal of its bounding box)."""

@@ -24,12 +24,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .assembly import Assembly
 from .errors import InputError
 from .validation import check_ends, check_finite, check_friction, check_ids, check_live, check_touched, first
 
 
 @dataclass
-class Structure3D:
+class Structure3D(Assembly):
     """An assembly of rigid polyhedral blocks with Coulomb point contacts (seed eq. 1-4 in 3D)."""
 
     name: str
@@ -58,13 +59,8 @@ class Structure3D:
     dimension = 3
 
     def __post_init__(self):
-        self.blocks = [str(b) for b in self.blocks]
-        self.supports = [str(b) for b in self.supports]
-        self.interfaces = [str(c) for c in self.interfaces]
-        self.iface_a = [str(b) for b in self.iface_a]
-        self.iface_b = [str(b) for b in self.iface_b]
-        f = lambda x, shape: np.asarray(x, dtype=float).reshape(shape)  # noqa: E731
-        nb, npt = len(self.blocks), len(np.asarray(self.point_interface).reshape(-1))
+        self._as_text("blocks", "supports", "interfaces", "iface_a", "iface_b")
+        f, nb, npt = self._floats, len(self.blocks), len(np.asarray(self.point_interface).reshape(-1))
         self.centroid = f(self.centroid, (nb, 3))
         self.dead = f(self.dead, (nb, 3))
         self.live = f(self.live, (nb, 3))
@@ -78,13 +74,8 @@ class Structure3D:
         self.dead_m = np.zeros((nb, 3)) if self.dead_m is None else f(self.dead_m, (nb, 3))
         self.live_m = np.zeros((nb, 3)) if self.live_m is None else f(self.live_m, (nb, 3))
         self.volume = np.zeros(nb) if self.volume is None else f(self.volume, (nb,))
-        self.units = {str(k): str(v) for k, v in (self.units or {}).items() if v}
 
     # ----------------------------------------------------------------- sizes and lookups
-    @property
-    def n_blocks(self) -> int:
-        return len(self.blocks)
-
     @property
     def n_interfaces(self) -> int:
         return len(self.interfaces)
@@ -93,15 +84,9 @@ class Structure3D:
     def n_points(self) -> int:
         return len(self.point_interface)
 
-    def block_index(self) -> dict:
-        return {b: j for j, b in enumerate(self.blocks)}
-
     def interface_blocks(self):
         """Indices of blocks a and b per interface, -1 for a support."""
-        idx = self.block_index()
-        ia = np.array([idx.get(b, -1) for b in self.iface_a], dtype=int)
-        ib = np.array([idx.get(b, -1) for b in self.iface_b], dtype=int)
-        return ia, ib
+        return self._ends(self.iface_a, self.iface_b)
 
     def point_blocks(self):
         """Indices of blocks a and b per contact point, -1 for a support."""
