@@ -10,6 +10,8 @@ from pathlib import Path
 
 from ..errors import InputError
 
+from .kinds import MESH_SUFFIXES, dimension  # noqa: F401 (light: the kind of a file, without reading it)
+
 #: What :func:`read` reads, in its messages.
 KINDS = ".dat (Pyomo data), .json (polygons, polyhedra, COMPAS assembly) or a mesh (.obj, .ply, .stl, .gltf, .glb)"
 
@@ -32,7 +34,6 @@ def read(path, **options):
             return s3
         from .jsonspec import structure_from_json
         return structure_from_json(path)
-    from .assemblies import MESH_SUFFIXES
     if ext in MESH_SUFFIXES:
         from .assemblies import read_mesh
         return read_mesh(p, **options)

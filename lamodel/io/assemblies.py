@@ -31,11 +31,11 @@ from ..errors import InputError
 from ..structure3d import Structure3D
 from .files import read_text
 from .json3d import structure3d_from_spec
+from .kinds import MESH_SUFFIXES, is_3d_spec, is_compas  # noqa: F401 (MESH_SUFFIXES: read here by others)
 
 DEFAULT_MU = 0.6
 DEFAULT_UNIT_WEIGHT = 1.0
 DEFAULT_LIVE_LOAD = (1.0, 0.0, 0.0)
-MESH_SUFFIXES = (".obj", ".ply", ".stl", ".gltf", ".glb")
 
 
 def _mechanics(spec, where, mu=None, unit_weight=None, live_load=None, supports=None, supports_below=None,
@@ -115,11 +115,6 @@ def read_compas(path, name=None, tolerance=None, contact_points=None, units=None
                                  split_nonplanar=True)
 
 
-def is_compas(data) -> bool:
-    """True for a parsed COMPAS assembly (its ``dtype`` names an Assembly)."""
-    return isinstance(data, dict) and "Assembly" in str(data.get("dtype", ""))
-
-
 # ----------------------------------------------------------------------------- meshes
 def mesh_spec(path, where: str) -> dict:
     """A 3D spec (geometry only) from a mesh file: one block per connected component."""
@@ -177,7 +172,6 @@ def read_3d_json(path, **options):
         return None
     if is_compas(data):
         return read_compas(data, name=Path(path).stem, where=str(path), **options)
-    from .json3d import is_3d_spec
     if not is_3d_spec(data):
         return None
     if options.get("units"):

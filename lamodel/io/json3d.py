@@ -48,18 +48,6 @@ TOP_FIELDS_3D = ("name", "description", "dimension", "mu", "unit_weight", "live_
 BODY_FIELDS_3D = ("id", "vertices", "faces", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
 
 
-def is_3d_spec(spec) -> bool:
-    """True for a 3D lamodel spec: ``"dimension": 3`` or a first vertex with 3 coordinates."""
-    if not isinstance(spec, dict):
-        return False
-    if spec.get("dimension") is not None:
-        return spec.get("dimension") == 3
-    try:
-        return len(spec["blocks"][0]["vertices"][0]) == 3
-    except (KeyError, IndexError, TypeError):
-        return False
-
-
 def _vector3(value, where, what):
     if not isinstance(value, (list, tuple)) or len(value) != 3:
         raise InputError(f"{where}: {what} is {json.dumps(value)[:60]}; expected [x, y, z] numbers")

@@ -143,3 +143,4 @@ def validated(structure, where):
         return structure.validate()
     except InputError as exc:  # "structure 'x': ..." -> "<file>: ..."
         raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
+

@@ -119,22 +119,24 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     (:attr:`Analysis.interrupted`). :class:`lamodel.errors.OutputError` when the folder
     cannot be written.
     """
+    from ..io import dimension
     from ..search.options import SolveOptions
     from . import present3d
     options = options or SolveOptions()
-    structure = _read(source, warn, inputs)
-    if getattr(structure, "dimension", 2) == 3:  # in space: its own use case, its own picture
-        return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
-                                   report=report, animate=animate, moving=(rolling, axles, positions), view=view,
-                                   echo=echo)
-    present3d.refuse_spatial_options(inputs, view)
     painter = None
-    if picture and not (report or animate):
-        # the planar picture's matplotlib loads in a second process while this one solves
-        # (the report and the animation load it here anyway)
+    dim = dimension(source) if isinstance(source, (str, os.PathLike)) else getattr(source, "dimension", 2)
+    if picture and not (report or animate) and dim == 2:
+        # the planar picture's matplotlib loads in a second process while this one reads and
+        # solves (a structure in space draws its own; the report and the animation load it here)
         from .painter import Painter
         painter = Painter()
     try:
+        structure = _read(source, warn, inputs)
+        if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
+            return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
+                                       report=report, animate=animate, moving=(rolling, axles, positions),
+                                       view=view, echo=echo)
+        present3d.refuse_spatial_options(inputs, view)
         return _analyse(structure, source, options, out, method, seed_ga, picture, report, animate,
                         (rolling, axles, positions), echo, command, painter, prove)
     finally:

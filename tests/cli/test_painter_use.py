@@ -45,3 +45,16 @@ def test_a_planar_solve_starts_one(tmp_path, started, capsys):
 def test_bad_input_starts_no_painter(tmp_path, started, capsys):
     assert main(["solve", str(tmp_path / "missing.json"), "--out", str(tmp_path / "r")]) == 2
     assert started == [] and "no such file" in capsys.readouterr().err
+
+
+def test_a_planar_json_starts_one_and_a_mesh_none(tmp_path, started, capsys):
+    import trimesh
+    assert main(["solve", str(ROOT / "instances" / "wall33.json"), "--out", str(tmp_path / "w"), "--quiet",
+                 "--starts", "0"]) == 0
+    assert len(started) == 1
+    box = trimesh.creation.box(extents=[1, 1, 1])                                     # z from -0.5 to 0.5
+    ground = trimesh.creation.box(extents=[4, 4, 1]).apply_translation([0, 0, -1])   # z from -1.5 to -0.5
+    trimesh.Scene([ground, box]).export(tmp_path / "box.glb")
+    assert main(["solve", str(tmp_path / "box.glb"), "--supports-below", "-1", "--out", str(tmp_path / "m"),
+                 "--quiet"]) == 0
+    assert len(started) == 1 and (tmp_path / "m" / "mechanism.png").exists()
