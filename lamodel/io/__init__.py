@@ -27,13 +27,13 @@ def read(path, **options):
         raise InputError(f"{path}: is a folder; expected a structure file: {KINDS}")
     if not p.is_file():
         raise InputError(f"{path}: no such file; expected a structure file: {KINDS}")
-    if ext == ".json":
-        from .assemblies import read_3d_json
-        s3 = read_3d_json(p, **options)
-        if s3 is not None:
-            return s3
-        from .jsonspec import structure_from_json
-        return structure_from_json(path)
+    if ext == ".json":  # parsed once, read as what it holds
+        from .assemblies import read_3d_spec
+        from .jsonfields import load_spec
+        from .jsonspec import structure_from_spec
+        spec, where = load_spec(p)
+        s3 = read_3d_spec(spec, p, **options)
+        return s3 if s3 is not None else structure_from_spec(spec, where)
     if ext in MESH_SUFFIXES:
         from .assemblies import read_mesh
         return read_mesh(p, **options)

@@ -170,6 +170,11 @@ def read_3d_json(path, **options):
         data = json.loads(read_text(path, "JSON geometry file"))
     except (json.JSONDecodeError, RecursionError, InputError):  # the planar reader says what is wrong
         return None
+    return read_3d_spec(data, path, **options)
+
+
+def read_3d_spec(data, path, **options):
+    """:func:`read_3d_json` on the file's parsed JSON ``data`` (None for a planar spec)."""
     if is_compas(data):
         return read_compas(data, name=Path(path).stem, where=str(path), **options)
     if not is_3d_spec(data):

@@ -92,7 +92,7 @@ def structure_from_json(source, name: str | None = None, tolerance: float | None
     assembly of convex blocks; unknown fields only give a warning.
     """
     spec, where = load_spec(source)
-    return _build(spec, where, name=name, tolerance=tolerance)
+    return structure_from_spec(spec, where, name=name, tolerance=tolerance)
 
 
 def _vector2(value, where, what):
@@ -101,7 +101,9 @@ def _vector2(value, where, what):
     return np.array([number(v, where, what) for v in value])
 
 
-def _build(spec, where, name=None, tolerance=None) -> Structure:
+def structure_from_spec(spec: dict, where: str, name: str | None = None, tolerance: float | None = None) -> Structure:
+    """A validated :class:`Structure` from a parsed planar spec; ``where`` (the file) starts
+    every message. ``name`` and ``tolerance`` as :func:`structure_from_json`."""
     warn_unknown(where, spec.keys(), TOP_FIELDS, "top-level")
     dimension = spec.get("dimension", 2)
     if dimension != 2 or isinstance(dimension, bool):
