@@ -92,7 +92,7 @@ def _facet_pairs(pairs, start, count):
     """All (facet of i, facet of j) for the block pairs (i, j), vectorised."""
     i, j = pairs[:, 0], pairs[:, 1]
     rows = count[i] * count[j]
-    first = np.concatenate([[0], np.cumsum(rows)[:-1]])
+    first = np.cumsum(rows) - rows  # also when no two bodies' boxes meet (rows empty)
     k = np.arange(rows.sum()) - np.repeat(first, rows)
     nj = np.repeat(count[j], rows)
     return np.repeat(start[i], rows) + k // nj, np.repeat(start[j], rows) + k % nj

@@ -97,8 +97,6 @@ def test_a_hostile_3d_input_is_one_line_exit_2_in_solve(tmp_path, capsys, case):
     assert out == "" and not (tmp_path / "r").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="lamodel/geometry/interfaces3d.py _facet_pairs fails when no two bodies' "
-                                       "boxes meet (first = np.cumsum(rows) - rows would fix it)")
 def test_a_block_floating_above_the_ground_is_a_free_block(tmp_path, capsys):
     path = tmp_path / "float.json"
     path.write_text(edited(block(vertices=cube(-0.5, -0.25, 0.1, 1, 0.5, 2))))
