@@ -23,20 +23,19 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-import highspy
 import numpy as np
 import scipy.sparse as sp
 
 from ..formulation.matrices import cohesive_matrix, equilibrium_matrix, generator_matrix, load_vectors
 from ..formulation.scaling import scaled as _scaled
 from ..formulation.scaling import scales as _scales
-from ..search.highs import QuietHighs
+from ..search.highs import INF, HighsLP
+from ..search.options import Deadline, Stopped
 from ..structure import Structure
 from .exact import weights
 
-INF = highspy.kHighsInf
-#: HiGHS's feasibility tolerances on the scaled LPs (their answers are re-checked exactly).
-TOLERANCE = 1e-9
+#: HiGHS's basis status codes (highspy.HighsBasisStatus: kLower 0, kBasic 1, kUpper 2)
+_BASIC, _UPPER = 1, 2
 
 
 @dataclass
@@ -52,30 +51,10 @@ class LPAnswer:
     slide_rate: np.ndarray | None = None  # cohesive: d alpha / d c_k (user units), >= 0
 
 
-def _highs(A, cost, col_lo, col_hi, row_lo, row_hi) -> highspy.Highs:
-    A = sp.csc_matrix(A)
-    h = QuietHighs()
-    h.setOptionValue("primal_feasibility_tolerance", TOLERANCE)
-    h.setOptionValue("dual_feasibility_tolerance", TOLERANCE)
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
-    lp.col_cost_, lp.col_lower_, lp.col_upper_ = cost, col_lo, col_hi
-    lp.row_lower_, lp.row_upper_ = row_lo, row_hi
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_ = A.indptr.astype(np.int32)
-    lp.a_matrix_.index_ = A.indices.astype(np.int32)
-    lp.a_matrix_.value_ = A.data.astype(float)
-    h.passModel(lp)
-    return h
-
-
-def _status(h) -> str:
-    st = h.getModelStatus()
-    if st == highspy.HighsModelStatus.kOptimal:
-        return "optimal"
-    if st == highspy.HighsModelStatus.kInfeasible:
-        return "infeasible"
-    return h.modelStatusToString(st).lower()
+def _lp(A, cost, col_lo, col_hi, row_lo, row_hi, name) -> HighsLP:
+    """The project's HiGHS wrapper at its tolerance (1e-9, what the exact checks were
+    tuned on), warm re-solves by HiGHS's default dual simplex."""
+    return HighsLP(A, row_lo, cost, col_lo, col_hi, name=name, b_hi=row_hi, warm="dual")
 
 
 class BoundLPs:
@@ -103,9 +82,8 @@ class BoundLPs:
         box = sp.csr_matrix((np.ones(4 * nc), (np.repeat(np.arange(nc), 4), np.arange(4 * nc))),
                             shape=(nc, 4 * nc))
         M = sp.bmat([[E, sp.csc_matrix(fb.reshape(-1, 1))], [box, None]], format="csc")
-        self.stat = _highs(M, np.zeros(4 * nc + 1), np.zeros(4 * nc + 1), np.full(4 * nc + 1, INF),
-                           np.concatenate([-f0, np.zeros(nc)]), np.concatenate([-f0, np.full(nc, INF)]))
-        self._stat_cost = np.zeros(4 * nc + 1)
+        self.stat = _lp(M, np.zeros(4 * nc + 1), np.zeros(4 * nc + 1), np.full(4 * nc + 1, INF),
+                        np.concatenate([-f0, np.zeros(nc)]), np.concatenate([-f0, np.full(nc, INF)]), "bound-N")
         # ---- cohesive LP: (n1, n2, V) per contact, alpha; max alpha
         self.margin = margin
         shrunk = _scaled(s, self.F, self.L)
@@ -118,18 +96,20 @@ class BoundLPs:
         lo = np.zeros(3 * nc + 1)
         hi = np.full(3 * nc + 1, INF)
         lo[-1] = -INF
-        self.coh = _highs(Mc, cost, lo, hi, -f0, -f0)
+        self.coh = _lp(Mc, cost, lo, hi, -f0, -f0, "bound-coh")
         self._Mc = Mc
 
     # ------------------------------------------------------------------ running HiGHS
-    def _run(self, h, deadline: float | None):
-        if deadline is not None:
-            h.setOptionValue("time_limit", max(1e-3, deadline - time.monotonic()))
+    def _run(self, lp: HighsLP, deadline: float | None) -> str:
+        """Solve; "stopped" when the deadline (time.monotonic) passed (the caller ends)."""
         t = time.perf_counter()
-        h.run()
-        self.lp_seconds += time.perf_counter() - t
         self.n_solves += 1
-        return _status(h)
+        try:
+            return lp.solve(deadline=None if deadline is None else Deadline(deadline))
+        except Stopped:
+            return "stopped"
+        finally:
+            self.lp_seconds += time.perf_counter() - t
 
     # ------------------------------------------------------------------ Nmin / Nmax
     def normal_force(self, k, a, b, lo, hi, maximize=False, deadline=None) -> LPAnswer:
@@ -142,29 +122,23 @@ class BoundLPs:
         cost = np.zeros(4 * nc + 1)
         for j, w in weights(k).items():
             cost[4 * j:4 * j + 4] = -w if maximize else w
-        changed = np.flatnonzero(cost != self._stat_cost)
-        if changed.size:
-            self.stat.changeColsCost(changed.size, changed.astype(np.int32), cost[changed])
-            self._stat_cost = cost
-        self.stat.changeColBounds(4 * nc, float(a), float(b))
-        rows = np.arange(self.nb * 3, self.nb * 3 + nc, dtype=np.int32)
+        self.stat.set_cost(cost)
+        self.stat.set_bounds([float(a)], [float(b)], idx=[4 * nc])
+        rows = np.arange(self.nb * 3, self.nb * 3 + nc)
         hi_s = np.where(np.isfinite(hi), np.asarray(hi, float) / self.F, INF)
-        self.stat.changeRowsBounds(nc, rows, np.asarray(lo, float) / self.F, hi_s)
+        self.stat.set_row_bounds(np.asarray(lo, float) / self.F, hi_s, idx=rows)
         status = self._run(self.stat, deadline)
         if status == "infeasible":
-            ok, has, ray = self.stat.getDualRay()
-            y = None
-            if has:
-                # HiGHS's ray proves infeasibility of its rows; either sign may be ours: the
-                # exact check (exact.dual_bound with k=None) decides, trying both
-                y = np.asarray(ray, float)[:3 * self.nb] * self.y_user
+            ray = self.stat.dual_ray()
+            # HiGHS's ray proves infeasibility of its rows; either sign may be ours: the
+            # exact check (exact.dual_bound with k=None) decides, trying both
+            y = None if ray is None else ray[:3 * self.nb] * self.y_user
             return LPAnswer("infeasible", y=y)
         if status != "optimal":
             return LPAnswer(status)
-        sol = self.stat.getSolution()
-        value = self.stat.getInfo().objective_function_value * self.F
-        n = np.asarray(sol.col_value, float)[:4 * nc].reshape(nc, 4).sum(axis=1) * self.F
-        y = -np.asarray(sol.row_dual, float)[:3 * self.nb] * self.y_user
+        value = self.stat.objective() * self.F
+        n = self.stat.x()[:4 * nc].reshape(nc, 4).sum(axis=1) * self.F
+        y = -self.stat.duals()[0][:3 * self.nb] * self.y_user
         if maximize:
             value, y = -value, -y
         return LPAnswer("optimal", value=value, y=y, x=n)
@@ -176,23 +150,20 @@ class BoundLPs:
         which alpha grows with c_k (the flow of contact k in the cohesive mechanism)."""
         nc = self.nc
         cs = np.maximum(np.asarray(c, float), 0.0) * (1.0 - self.margin) / self.F
-        idx = np.arange(2, 3 * nc, 3, dtype=np.int32)
-        self.coh.changeColsBounds(nc, idx, -cs, cs)
+        idx = np.arange(2, 3 * nc, 3)
+        self.coh.set_bounds(-cs, cs, idx=idx)
         status = self._run(self.coh, deadline)
         if status != "optimal":
             return LPAnswer(status)
-        sol = self.coh.getSolution()
-        x = np.asarray(sol.col_value, float).copy()
+        x = self.coh.x()
         x[:-1] *= self.F
-        basis = self.coh.getBasis()
-        st = np.array([int(v) for v in basis.col_status])
-        row_basic = np.array([int(v) for v in basis.row_status]) == int(highspy.HighsBasisStatus.kBasic)
-        basic = st == int(highspy.HighsBasisStatus.kBasic)
-        if row_basic.any():
+        col_status, row_status = self.coh.portable_basis()
+        basic = col_status == _BASIC
+        if np.any(row_status == _BASIC):
             basic = None  # a degenerate basis with an equilibrium row's slack basic
-        rate = np.abs(np.asarray(sol.col_dual, float)[idx]) / self.F
-        return LPAnswer("optimal", value=float(x[-1]), x=x, basic=basic,
-                        at_upper=st == int(highspy.HighsBasisStatus.kUpper), slide_rate=rate)
+        rate = np.abs(self.coh.duals()[1][idx]) / self.F
+        return LPAnswer("optimal", value=float(x[-1]), x=x, basic=basic, at_upper=col_status == _UPPER,
+                        slide_rate=rate)
 
     def cohesive_limits(self, c):
         """The cohesive columns' bounds (user units, shrunk): what a nonbasic column sits on."""
@@ -218,10 +189,10 @@ class BoundLPs:
         cost[-1] = -1.0
         lo = np.concatenate([-np.ones(3 * nb), [-INF]])
         hi = np.concatenate([np.ones(3 * nb), [1.0]])
-        h = _highs(M, cost, lo, hi, np.zeros(4 * nc), np.full(4 * nc, INF))
-        if self._run(h, None) != "optimal":
+        lp = _lp(M, cost, lo, hi, np.zeros(4 * nc), np.full(4 * nc, INF), "bound-open")
+        if self._run(lp, None) != "optimal":
             return None
-        x = np.asarray(h.getSolution().col_value, float)
+        x = lp.x()
         if not x[-1] > 1e-9:
             return None
         return x[:-1] * self.y_user
