@@ -82,7 +82,7 @@ class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
     def __init__(self, structure, upper: float, deadline: float, alpha_split=8, tol=None, max_nodes=None,
-                 pairs="none", max_lps=None):
+                 pairs="none", max_lps=None, eager_root=True):
         self.s = structure
         self.U = float(upper)
         self.deadline = deadline
@@ -102,6 +102,7 @@ class BranchAndBound:
         # "all" nodes. Measured on 15 random trilithons at 60 nodes: either gained on as many
         # as it lost against "none" ("all" with 1.5-2.5x the LPs), so it is not the default
         self.pairs = pairs
+        self.eager_root = eager_root
 
     # ------------------------------------------------------------------ time
     def _check_time(self):
@@ -148,7 +149,11 @@ class BranchAndBound:
         return floor_float(q), rate
 
     def process(self, node, everything=False) -> bool:
-        """Rounds on a node until they stall; False when the node is excluded."""
+        """Rounds on a node until they stall; False when the node is excluded.
+
+        ``everything``: the first round solves the Nmin LP of every contact; otherwise
+        only those the cohesive mechanism slides on (all of them when the cohesive LP has
+        no mechanism to show, e.g. no frictionless statics at all)."""
         self.progress.nodes += 1
         todo = set(range(self.nc)) if everything else None
         while True:
@@ -161,19 +166,28 @@ class BranchAndBound:
                     node.fresh = set()
                     self.progress.rounds += 1
                 if node.rate is None:
-                    return True
-                top = node.rate.max(initial=0.0)
-                todo = {k for k in np.flatnonzero(node.rate > FLOW_TOL * top)} if top > 0 else set()
+                    todo = set(range(self.nc))
+                else:
+                    top = node.rate.max(initial=0.0)
+                    todo = {int(k) for k in np.flatnonzero(node.rate > FLOW_TOL * top)} if top > 0 else set()
                 todo -= node.fresh
                 if not todo:
+                    if node.rate is None:
+                        return True
                     found = self._pair(node)
                     if found != "raised":
                         return found != "excluded"
                     continue  # the polygon raised a: new rounds
-            for k in sorted(todo):
-                if not self._nmin(node, int(k)):
-                    return False
+            if not self._round(node, todo):
+                return False
             todo = None
+
+    def _round(self, node, todo) -> bool:
+        """Nmin of the contacts ``todo``; False when the node is proven empty."""
+        for k in sorted(todo):
+            if not self._nmin(node, k):
+                return False
+        return True
 
     def _pair(self, node) -> str:
         """The polygon bound of the two contacts the mechanism slides on most
@@ -241,7 +255,7 @@ class BranchAndBound:
         L = lower
         in_hand = math.inf
         try:
-            if not self.process(root, everything=True):
+            if not self.process(root, everything=self.eager_root):
                 self.progress.lps = self.lps.n_solves
                 self.root_bound = self.U
                 return self.U, []

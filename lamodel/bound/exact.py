@@ -152,8 +152,7 @@ class ExactData:
         columns. The statics is rebuilt with the LP's basic columns solved exactly."""
         if answer.basic is None:
             return None
-        nc, nb = self.nc, self.nb
-        lo, hi = limits
+        nc = self.nc
         ncol = 3 * nc + 1
         dq = [_q(v) for v in d_shrunk]
         # columns (n1, n2, V) per contact then alpha, as sparse rational columns
@@ -171,32 +170,9 @@ class ExactData:
                 out[i] = out.get(i, Fraction(0)) + sign * dq[k] * v
             return out
 
-        basic = np.flatnonzero(answer.basic)
-        if basic.size != 3 * nb:
+        x = rebuild(column, ncol, answer, limits, [-v for v in self.f0])
+        if x is None:
             return None
-        x = [None] * ncol
-        rhs = [-v for v in self.f0]
-        for j in range(ncol):
-            if answer.basic[j]:
-                continue
-            bound = hi[j] if answer.at_upper[j] else lo[j]
-            if not math.isfinite(bound):
-                bound = 0.0  # a free column nonbasic at zero
-            x[j] = _q(bound)
-            if x[j]:
-                for i, v in column(j).items():
-                    rhs[i] -= v * x[j]
-        rows = [dict() for _ in range(3 * nb)]
-        for p, j in enumerate(basic):
-            for i, v in column(j).items():
-                if v:
-                    rows[i][p] = v
-        order = _column_order(rows, basic.size)
-        sol = solve_exact(rows, rhs, order)
-        if sol is None:
-            return None
-        for p, j in enumerate(basic):
-            x[j] = sol[p]
         alpha = x[-1]
         N = [-(x[3 * k] + x[3 * k + 1]) for k in range(nc)]
         V = [x[3 * k + 2] for k in range(nc)]
@@ -220,6 +196,44 @@ class ExactData:
             if abs(V[k]) > c[k] or self.d[k] * N[k] - M[k] > 0 or self.d[k] * N[k] + M[k] > 0:
                 return False
         return True
+
+
+def rebuild(column, ncol, answer, limits, rhs):
+    """An LP's point rebuilt exactly from its basis (a list of Fractions), or None.
+
+    ``column(j)``: column j of the equality rows ``B x = rhs`` as {row: Fraction};
+    ``answer.basic``/``answer.at_upper``: HiGHS's basis; ``limits``: (lo, hi) where the
+    nonbasic columns sit (a free nonbasic column at 0). The basic columns are solved
+    exactly, so the rows hold exactly."""
+    if answer.basic is None:
+        return None
+    lo, hi = limits
+    basic = np.flatnonzero(answer.basic)
+    if basic.size != len(rhs):
+        return None
+    x = [None] * ncol
+    rhs = list(rhs)
+    for j in range(ncol):
+        if answer.basic[j]:
+            continue
+        bound = hi[j] if answer.at_upper[j] else lo[j]
+        if not math.isfinite(bound):
+            bound = 0.0  # a free column nonbasic at zero
+        x[j] = _q(bound)
+        if x[j]:
+            for i, v in column(j).items():
+                rhs[i] -= v * x[j]
+    rows = [dict() for _ in range(len(rhs))]
+    for p, j in enumerate(basic):
+        for i, v in column(j).items():
+            if v:
+                rows[i][p] = v
+    sol = solve_exact(rows, rhs, _column_order(rows, basic.size))
+    if sol is None:
+        return None
+    for p, j in enumerate(basic):
+        x[j] = sol[p]
+    return x
 
 
 def _dyadic(values):

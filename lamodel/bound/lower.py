@@ -17,12 +17,16 @@ from ..structure import Structure
 
 #: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
 PROVEN_TOL = 1e-6
-#: The default budget is counted in LP solves, so that the same structure gets the same
-#: bound on any machine: this fraction of the search's own LP solves, at least LP_FLOOR
-#: (the proofs of the seed's arch, portal and portal_columns take 99, 78 and 77 LPs;
-#: wall33 and wall55 stay at 0 after 500 LPs and after 330,000). A seconds backstop of
-#: the search's own time, at least FLOOR_SECONDS, guards against pathological LPs only.
-BUDGET_FRACTION, LP_FLOOR, FLOOR_SECONDS = 0.25, 200, 2.0
+#: The default bound is the root's rounds to their fixed point: they end when a round
+#: raises nothing (each round: one cohesive LP, then one Nmin LP per contact its mechanism
+#: slides on). That proves the seed's arch, portal and portal_columns (100, 79, 78 LPs,
+#: 0.19-0.46 s of CPU against a 4 s search) and costs 5 LPs on wall33 (0.03 s, the search
+#: 0.8 s) and 16 on wall55 (0.2 s, the search 0.9 s), where the branching proves nothing
+#: in 500 LPs nor in 330,000 (benchmarks/lower_bound.py; measured under load). The
+#: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
+#: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
+#: on any machine) and the search's own seconds, at least FLOOR_SECONDS.
+LPS_PER_CONTACT, FLOOR_SECONDS = 8, 2.0
 
 
 @dataclass
@@ -55,15 +59,16 @@ class LowerBound:
         return self.alpha_upper - self.alpha_lower
 
 
-def default_budget(search_seconds: float, search_lps: int) -> tuple[float, int]:
-    """(seconds backstop, LP solves) for the bound after a search that took
-    ``search_seconds`` and ``search_lps`` LP solves."""
-    return max(FLOOR_SECONDS, float(search_seconds)), max(LP_FLOOR, int(BUDGET_FRACTION * search_lps))
+def default_budget(search_seconds: float, n_contacts: int) -> dict:
+    """The keyword arguments of :func:`lower_bound` for the default bound after a search
+    that took ``search_seconds``, on a structure with ``n_contacts`` contacts."""
+    return {"budget": max(FLOOR_SECONDS, float(search_seconds)), "max_nodes": 1,
+            "max_lps": LPS_PER_CONTACT * max(1, int(n_contacts))}
 
 
 def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
                 alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
-                max_lps: int | None = None) -> LowerBound:
+                max_lps: int | None = None, eager_root: bool = False) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 
     ``alpha_upper``: the best certified alpha (any number works as the top of the searched
@@ -74,7 +79,10 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
     ``max_nodes``: stop after this many nodes (1: the root's rounds only), whatever the
     time left: a count gives the same bound on any machine; ``max_lps`` likewise stops
     after this many LP solves (checked before each). ``pairs``: where the polygon
-    bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all"."""
+    bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all".
+    ``eager_root``: the root's first round solves every contact's Nmin LP, not only
+    those its cohesive mechanism slides on (same proofs on the seed's instances, 17 times
+    the LPs on a running-bond wall)."""
     from .branch import BranchAndBound
     t0 = time.perf_counter()
     structure.validate()
@@ -82,7 +90,7 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
         return LowerBound(math.nan, alpha_upper, False, 0, 0, 0, 0, 0, 0.0, "none")
     deadline = time.monotonic() + float(budget)
     bb = BranchAndBound(structure, alpha_upper, deadline, alpha_split=alpha_split, max_nodes=max_nodes,
-                        pairs=pairs, max_lps=max_lps)
+                        pairs=pairs, max_lps=max_lps, eager_root=eager_root)
     L, open_nodes = bb.run(0.0)
     p = bb.progress
     proven = alpha_upper - L <= PROVEN_TOL * max(1.0, alpha_upper)

@@ -77,18 +77,15 @@ def lower_bound_columns(outcome: Outcome, prove: float | None = None) -> dict:
     NaN when nothing was proved), ``proven_global`` (alpha is the global minimum within
     1e-6 relative), ``alpha_lower_seconds`` and ``alpha_lower_check`` (the exact check of
     its certificates). The top of the searched range is the certified alpha (else the
-    associative bound). ``prove``: seconds for the bound; default a quarter of the
-    search's LP solves (at least 200: counted, so that a structure gets the same bound on any
-    machine), with a seconds backstop."""
+    associative bound). ``prove``: seconds for the bound (the branch-and-bound);
+    default the root's rounds to their fixed point (:func:`lamodel.bound.lower.default_budget`)."""
     from ..bound.lower import default_budget, lower_bound
     upper = outcome.best.alpha if outcome.best is not None else outcome.alpha_associative
     if outcome.status not in ("certified", "not_certified") or not np.isfinite(upper):
         return {"alpha_lower": np.nan, "proven_global": False, "alpha_lower_seconds": 0.0,
                 "alpha_lower_check": "none"}
-    if prove is not None:
-        budget, max_lps = prove, None
-    else:
-        budget, max_lps = default_budget(outcome.wall_time_s, sum(int(r.iterations or 0) for r in outcome.runs))
-    lb = lower_bound(outcome.structure, upper, budget=budget, max_lps=max_lps)
+    limits = {"budget": prove} if prove is not None else default_budget(outcome.wall_time_s,
+                                                                         outcome.structure.n_contacts)
+    lb = lower_bound(outcome.structure, upper, **limits)
     return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": lb.proven_global and outcome.best is not None,
             "alpha_lower_seconds": lb.time, "alpha_lower_check": lb.exact_check}
