@@ -86,11 +86,14 @@ class BranchAndBound:
         self.s = structure
         self.U = float(upper)
         self.deadline = deadline
-        self.lps = BoundLPs(structure)
-        self.exact = ExactData(structure)
+        if getattr(structure, "dimension", 2) == 3:
+            from .space import BoundLPs3D, ExactData3D
+            self.lps, self.exact = BoundLPs3D(structure), ExactData3D(structure)
+        else:
+            self.lps, self.exact = BoundLPs(structure), ExactData(structure)
         self.corrected = self.exact.use_opening_motion(self.lps.opening_motion())
         self.mu = structure.mu
-        self.nc = structure.n_contacts
+        self.nc = self.lps.nc  # contacts in the plane, contact points in space
         self.tol = tol if tol is not None else 1e-6 * max(1.0, abs(self.U))
         self.alpha_split = alpha_split   # alpha-split while b - a > (U - a_root) / alpha_split
         self.progress = Progress()

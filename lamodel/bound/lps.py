@@ -170,9 +170,7 @@ class BoundLPs:
         x = self.coh.x()
         x[:-1] *= self.F
         col_status, row_status = self.coh.portable_basis()
-        basic = col_status == _BASIC
-        if np.any(row_status == _BASIC):
-            basic = None  # a degenerate basis with an equilibrium row's slack basic
+        basic = col_status == _BASIC  # an equilibrium row's slack may be basic too (degenerate)
         rate = np.bincount(self._coh_point, self._coh_coef * np.abs(self.coh.duals()[1][idx]),
                            minlength=self.nc) / self.F
         return LPAnswer("optimal", value=float(x[-1]), x=x, basic=basic, at_upper=col_status == _UPPER,
