@@ -73,13 +73,8 @@ class BoundLPs:
     def _setup(self):
         """The plane: eq. (1)-(4) on contacts (N, V, M), four generators per contact."""
         s = self.structure
-        self.nb, self.nc = s.n_blocks, s.n_contacts
-        self.F, self.L = _scales(s)
-        ss = _scaled(s, self.F, self.L)
-        A = equilibrium_matrix(ss)
-        f0, fb = load_vectors(ss)
-        # y in user units: force rows keep their value, moment rows are divided by L
-        self.y_user = np.tile([1.0, 1.0, 1.0 / self.L], self.nb)
+        self.nc = s.n_contacts
+        ss, A, f0, fb = self._scaled(_scales, _scaled, equilibrium_matrix, load_vectors, 2)
         shrunk = _scaled(s, self.F, self.L)
         shrunk.d = ss.d * (1.0 - self.margin)
         self.d_shrunk = s.d * (1.0 - self.margin)  # the half-lengths the exact check rebuilds with
@@ -89,6 +84,19 @@ class BoundLPs:
         lo[-1] = -INF
         self._build(A, f0, fb, generator_matrix(ss), 4, cohesive_matrix(shrunk), lo, hi,
                     np.arange(2, 3 * nc, 3), np.arange(nc), 1.0)
+
+    def _scaled(self, scales, scaled, equilibrium, loads, dim):
+        """The non-dimensional structure (forces by F, lengths by L) and its (A, f0, fbar),
+        from the plane's or space's formulation functions; ``y_user`` maps multipliers of
+        its equilibrium rows to the user's units (moment rows divided by L)."""
+        s = self.structure
+        self.nb = s.n_blocks
+        self.F, self.L = scales(s)
+        ss = scaled(s, self.F, self.L)
+        f0, fb = loads(ss)
+        per_block = [1.0] * dim + [1.0 / self.L] * (1 if dim == 2 else 3)
+        self.y_user = np.tile(per_block, self.nb)
+        return ss, equilibrium(ss), f0, fb
 
     def _build(self, A, f0, fb, G, g, C, coh_lo, coh_hi, coh_idx, coh_point, coh_coef):
         """The two LPs on the scaled matrices: A (equilibrium), f0, fb; G the cone's

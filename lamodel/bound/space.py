@@ -78,12 +78,8 @@ class BoundLPs3D(BoundLPs):
 
     def _setup(self):
         s = self.structure
-        self.nb, self.nc = s.n_blocks, s.n_points
-        self.F, self.L = scales(s)
-        ss = scaled(s, self.F, self.L)
-        A = equilibrium_matrix(ss)
-        f0, fb = load_vectors(ss)
-        self.y_user = np.tile([1.0, 1.0, 1.0, 1.0 / self.L, 1.0 / self.L, 1.0 / self.L], self.nb)
+        self.nc = s.n_points
+        ss, A, f0, fb = self._scaled(scales, scaled, equilibrium_matrix, load_vectors, 3)
         self.d_shrunk = None
         npt, m, k = self.nc, PYRAMID, ZONES
         w = pyramid_vertices(m)
