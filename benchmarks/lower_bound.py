@@ -36,8 +36,8 @@ def load(name, specs):
     if name in specs:
         spec = specs[name]
         if spec.get("dimension") == 3:
-            from lamodel.io.assemblies import structure3d_from_json
-            return structure3d_from_json(spec)
+            from lamodel.io.json3d import structure3d_from_spec
+            return structure3d_from_spec(spec)
         return structure_from_json(spec)
     return read(ROOT / "instances" / name)
 
@@ -48,7 +48,8 @@ def search(s):
     t = time.perf_counter()
     if isinstance(s, Structure3D):
         from lamodel.search.search3d import solve3d
-        o = solve3d(s)
+        r = solve3d(s)
+        return (r.alpha if r.state is not None else None), time.perf_counter() - t
     else:
         from lamodel.search.driver import SolveOptions, solve
         o = solve(s, SolveOptions(progress=False))
@@ -69,15 +70,16 @@ def main(argv=None):
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
         s = load(name, specs)
+        contacts = getattr(s, "n_points", None) or s.n_contacts
         alpha, seconds = search(s)
         if alpha is None:
-            print(f"| {name} | {s.n_blocks} | {s.n_contacts} | (not certified) | | | | {seconds:.2f} | | | | | |")
+            print(f"| {name} | {s.n_blocks} | {contacts} | (not certified) | | | | {seconds:.2f} | | | | | |")
             continue
-        limits = {"budget": args.prove} if args.prove is not None else default_budget(seconds, s.n_contacts)
+        limits = {"budget": args.prove} if args.prove is not None else default_budget(seconds, s)
         cpu = time.process_time()
         lb = lower_bound(s, alpha, **limits)
         cpu = time.process_time() - cpu
-        print(f"| {name} | {s.n_blocks} | {s.n_contacts} | {alpha:.6f} | {lb.alpha_lower:.6f} | "
+        print(f"| {name} | {s.n_blocks} | {contacts} | {alpha:.6f} | {lb.alpha_lower:.6f} | "
               f"{lb.alpha_lower / alpha:.6f} | {'yes' if lb.proven_global else 'no'} | {seconds:.2f} | "
               f"{cpu:.2f} | {cpu / seconds:.2f} | {lb.rounds} | {lb.nodes} | {lb.lps} |", flush=True)
 

@@ -14,6 +14,7 @@ import time
 from dataclasses import dataclass
 
 from ..structure import Structure
+from ..structure3d import Structure3D
 
 #: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
 PROVEN_TOL = 1e-6
@@ -27,6 +28,12 @@ PROVEN_TOL = 1e-6
 #: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
 #: on any machine) and the search's own seconds, at least FLOOR_SECONDS.
 LPS_PER_CONTACT, FLOOR_SECONDS = 8, 2.0
+#: In space a block on three or more contact points can rest on any three of them, so at
+#: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
+#: most LPS_PER_POINT LPs per contact point and a quarter of the search's seconds, at least
+#: FLOOR_SECONDS_3D (a block 1 x 0.5 x 2 on four points is proven at its 0.5 in 107 LPs,
+#: 0.1 s; a 10-block panel, 88 points, is left at 0 after 1 s).
+LPS_PER_POINT, SHARE_3D, FLOOR_SECONDS_3D = 32, 0.25, 1.0
 
 
 @dataclass
@@ -59,14 +66,16 @@ class LowerBound:
         return self.alpha_upper - self.alpha_lower
 
 
-def default_budget(search_seconds: float, n_contacts: int) -> dict:
-    """The keyword arguments of :func:`lower_bound` for the default bound after a search
-    that took ``search_seconds``, on a structure with ``n_contacts`` contacts."""
-    return {"budget": max(FLOOR_SECONDS, float(search_seconds)), "max_nodes": 1,
-            "max_lps": LPS_PER_CONTACT * max(1, int(n_contacts))}
+def default_budget(search_seconds: float, structure) -> dict:
+    """The keyword arguments of :func:`lower_bound` for the default bound on ``structure``
+    after a search that took ``search_seconds`` (see LPS_PER_CONTACT, LPS_PER_POINT)."""
+    if getattr(structure, "dimension", 2) == 3:
+        return {"budget": max(FLOOR_SECONDS_3D, SHARE_3D * float(search_seconds)),
+                "max_lps": LPS_PER_POINT * max(1, structure.n_points)}
+    return {"budget": max(FLOOR_SECONDS, float(search_seconds)), "max_nodes": 1, "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
 
 
-def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
+def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = 10.0,
                 alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
                 max_lps: int | None = None, eager_root: bool = False) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.

@@ -163,7 +163,8 @@ def _analyse(source, options, out, method, seed_ga, picture, report, animate, mo
     structure = _read(source, warn, inputs)
     if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
         return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
-                                   report=report, animate=animate, moving=moving, view=view, echo=echo)
+                                   report=report, animate=animate, moving=moving, view=view, echo=echo,
+                                   prove=prove)
     present3d.refuse_spatial_options(inputs, view)
     source = str(source) if isinstance(source, (str, os.PathLike)) else structure.name
     structure = with_rolling(structure, *moving, source=source)
