@@ -26,8 +26,13 @@ def generated():
     """Generated instances: name -> spec (JSON dict)."""
     from lamodel.geometry.generators import arch, portal, seed_wall
     from lamodel.geometry.generators3d import wall_panel
+    def box(x0, y0, z0, x1, y1, z1):
+        return [[x, y, z] for z in (z0, z1) for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    block3d = {"name": "block3d", "dimension": 3, "mu": 0.6, "unit_weight": 1.0, "live_load": [1.0, 0.0, 0.0],
+               "blocks": [{"id": "ground", "support": True, "vertices": box(-2, -2, -0.5, 2, 2, 0)},
+                          {"id": "B", "vertices": box(-0.5, -0.25, 0, 0.5, 0.25, 2)}]}
     return {"arch9": arch(9), "arch21": arch(21), "portal7": portal(7), "wall4courses": seed_wall(4),
-            "wall8courses": seed_wall(8), "panel3d": wall_panel(length=1.2, courses=3)}
+            "wall8courses": seed_wall(8), "block3d": block3d, "panel3d": wall_panel(length=1.2, courses=3)}
 
 
 def load(name, specs):

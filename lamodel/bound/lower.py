@@ -27,7 +27,7 @@ PROVEN_TOL = 1e-6
 #: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
 #: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
 #: on any machine) and the search's own seconds, at least FLOOR_SECONDS.
-LPS_PER_CONTACT, FLOOR_SECONDS = 8, 2.0
+LPS_PER_CONTACT, FLOOR_SECONDS = 16, 2.0
 #: In space a block on three or more contact points can rest on any three of them, so at
 #: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
 #: most LPS_PER_POINT LPs per contact point and a quarter of the search's seconds, at least
