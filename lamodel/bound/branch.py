@@ -91,7 +91,7 @@ class BranchAndBound:
             self.lps, self.exact = BoundLPs3D(structure), ExactData3D(structure)
         else:
             self.lps, self.exact = BoundLPs(structure), ExactData(structure)
-        self.corrected = self.exact.use_opening_motion(self.lps.opening_motion())
+        self.exact.opening_from(self.lps.opening_motion)
         self.mu = structure.mu
         self.nc = self.lps.nc  # contacts in the plane, contact points in space
         self.tol = tol if tol is not None else 1e-6 * max(1.0, abs(self.U))

@@ -78,6 +78,7 @@ class ExactData:
         self.mu = [_q(v) for v in mu]
         self.y0 = None      # exact opening motion (list of Fractions), set by use_opening_motion
         self.r0 = None      # its reduced costs of -N (each < 0)
+        self._opening = None  # where to find y0 when first needed (see opening_from)
 
     # ------------------------------------------------------------------ dual side
     def _products(self, y):
@@ -108,6 +109,11 @@ class ExactData:
             return True
         return False
 
+    def opening_from(self, find):
+        """Find the opening motion with ``find()`` (an LP: seconds on thousands of contact
+        points) only when a certificate first needs the correction."""
+        self._opening = find
+
     def dual_bound(self, y, k, a, b, lo, hi):
         """Exact lower bound on ``min -N_k`` over the admissible statics with alpha in
         [a, b] and ``lo <= -N <= hi`` (hi may hold inf), from multipliers y (floats).
@@ -119,6 +125,9 @@ class ExactData:
         r = self._reduced(t, k)
         bad = [j for j in range(self.nc) if r[j] > 0 and not math.isfinite(hi[j])]
         if bad:
+            if self.y0 is None and self._opening is not None:
+                find, self._opening = self._opening, None
+                self.use_opening_motion(find())
             if self.y0 is None:
                 return None
             # reduced costs are convex in y: r(y + s y0) <= r(y) + s r0, exactly
