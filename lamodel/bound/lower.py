@@ -20,13 +20,14 @@ from ..structure3d import Structure3D
 PROVEN_TOL = 1e-6
 #: The default bound is the root's rounds to their fixed point: they end when a round
 #: raises nothing (each round: one cohesive LP, then one Nmin LP per contact its mechanism
-#: slides on). That proves the seed's arch, portal and portal_columns (100, 79, 78 LPs,
-#: 0.19-0.46 s of CPU against a 4 s search) and costs 5 LPs on wall33 (0.03 s, the search
-#: 0.8 s) and 16 on wall55 (0.2 s, the search 0.9 s), where the branching proves nothing
-#: in 500 LPs nor in 330,000 (benchmarks/lower_bound.py; measured under load). The
+#: slides on). That proves the seed's arch, portal and portal_columns (116, 95, 92 LPs,
+#: 0.2-0.5 s of CPU against a 3-4 s search) and costs 4 LPs on wall33 (0.01 s, the search
+#: 0.4 s) and 17 on wall55 (0.06 s, the search 1 s), where the branching proves nothing
+#: in 500 LPs nor in 48,000 (benchmarks/lower_bound.py; measured under load). The
 #: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
 #: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
-#: on any machine) and the search's own seconds, at least FLOOR_SECONDS.
+#: on any machine; the arches and portals take at most 8) and the search's own seconds,
+#: at least FLOOR_SECONDS.
 LPS_PER_CONTACT, FLOOR_SECONDS = 16, 2.0
 #: In space a block on three or more contact points can rest on any three of them, so at
 #: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
