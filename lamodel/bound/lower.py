@@ -31,10 +31,11 @@ PROVEN_TOL = 1e-6
 LPS_PER_CONTACT, FLOOR_SECONDS = 16, 2.0
 #: In space a block on three or more contact points can rest on any three of them, so at
 #: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
-#: most LPS_PER_POINT LPs per contact point and a quarter of the search's seconds, at least
-#: FLOOR_SECONDS_3D (a block 1 x 0.5 x 2 on four points is proven at its 0.5 in 107 LPs,
-#: 0.1 s; a 10-block panel, 88 points, is left at 0 after 1 s).
-LPS_PER_POINT, SHARE_3D, FLOOR_SECONDS_3D = 32, 0.25, 1.0
+#: most LPS_PER_POINT LPs per contact point and MAX_LPS_3D in all (counted: the same bound
+#: on any machine), with a quarter of the search's seconds, at least FLOOR_SECONDS_3D, as a
+#: guard. A block 1 x 0.5 x 2 on four points is proven at its 0.5 in 117 LPs (0.09 s); a
+#: 10-block panel (88 points) is left at 0 after 128 (0.3 s, the search 0.4 s).
+LPS_PER_POINT, MAX_LPS_3D, SHARE_3D, FLOOR_SECONDS_3D = 32, 128, 0.25, 1.0
 
 
 @dataclass
@@ -72,7 +73,7 @@ def default_budget(search_seconds: float, structure) -> dict:
     after a search that took ``search_seconds`` (see LPS_PER_CONTACT, LPS_PER_POINT)."""
     if getattr(structure, "dimension", 2) == 3:
         return {"budget": max(FLOOR_SECONDS_3D, SHARE_3D * float(search_seconds)),
-                "max_lps": LPS_PER_POINT * max(1, structure.n_points)}
+                "max_lps": min(MAX_LPS_3D, LPS_PER_POINT * max(1, structure.n_points))}
     return {"budget": max(FLOOR_SECONDS, float(search_seconds)), "max_nodes": 1, "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
 
 
