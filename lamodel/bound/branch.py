@@ -82,7 +82,7 @@ class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
     def __init__(self, structure, upper: float, deadline: float, alpha_split=8, tol=None, max_nodes=None,
-                 pairs="none", max_lps=None, eager_root=True):
+                 pairs="none", max_lps=None, eager_root=False):
         self.s = structure
         self.U = float(upper)
         self.deadline = deadline
