@@ -209,3 +209,21 @@ def test_default_bound_proves_a_portal_and_stops_early_on_a_wall():
         assert lb.proven_global is proven and lb.nodes == 1
         if not proven:
             assert lb.alpha_lower == 0.0 and lb.lps <= 10
+
+
+def test_open_contact_probe_agrees_with_the_minimisation():
+    """The feasibility LP 'can contact k be open?' that stands in for Nmin_k = 0 answers
+    yes exactly where the minimisation gives 0 (wall33 on alpha in [0.6, 0.638982])."""
+    s = read(INSTANCES / "wall33.dat")
+    lps = BoundLPs(s)
+    nc = s.n_contacts
+    lo, hi = np.zeros(nc), np.full(nc, np.inf)
+    positive = 0
+    for k in range(nc):
+        shut = hi.copy()
+        shut[k] = 0.0
+        can_open = lps.normal_force(None, 0.6, 0.638982, lo, shut).status == "optimal"
+        nmin = lps.normal_force(k, 0.6, 0.638982, lo, hi).value
+        assert can_open == (nmin <= 1e-9), (k, nmin)
+        positive += not can_open
+    assert 0 < positive < nc
