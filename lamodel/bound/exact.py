@@ -51,10 +51,19 @@ def floor_float(q: Fraction) -> float:
 class ExactData:
     """The user's eq. (1)-(4) data as exact rationals, and the checks that use them."""
 
+    #: the dual correction's step is taken this much longer (1: the reduced costs are
+    #: exactly convex in y; in space their norms are rounded up, so a little more)
+    step_slack = Fraction(1)
+
     def __init__(self, structure: Structure):
         s = structure
         self.nb, self.nc = s.n_blocks, s.n_contacts
-        A = sp.csc_matrix(equilibrium_matrix(s))
+        self._load(equilibrium_matrix(s), *load_vectors(s), s.mu)
+        self.d = [_q(v) for v in s.d]
+
+    def _load(self, A, f0, fb, mu):
+        """The equilibrium matrix A, loads f0, fbar and friction coefficients, exactly."""
+        A = sp.csc_matrix(A)
         A.sum_duplicates()
         self.cols = [[(int(i), _q(v)) for i, v in zip(A.indices[A.indptr[j]:A.indptr[j + 1]],
                                                        A.data[A.indptr[j]:A.indptr[j + 1]])]
@@ -63,14 +72,13 @@ class ExactData:
         Ai, self._eA = _dyadic(A.data)
         self._icols = [(A.indices[A.indptr[j]:A.indptr[j + 1]].tolist(), Ai[A.indptr[j]:A.indptr[j + 1]])
                        for j in range(A.shape[1])]
-        f0, fb = load_vectors(s)
         self._f0i, self._fbi = _dyadic(f0), _dyadic(fb)
         self.f0 = [_q(v) for v in f0]
         self.fbar = [_q(v) for v in fb]
-        self.mu = [_q(v) for v in s.mu]
-        self.d = [_q(v) for v in s.d]
+        self.mu = [_q(v) for v in mu]
         self.y0 = None      # exact opening motion (list of Fractions), set by use_opening_motion
         self.r0 = None      # its reduced costs of -N (each < 0)
+        self._opening = None  # where to find y0 when first needed (see opening_from)
 
     # ------------------------------------------------------------------ dual side
     def _products(self, y):
@@ -101,6 +109,11 @@ class ExactData:
             return True
         return False
 
+    def opening_from(self, find):
+        """Find the opening motion with ``find()`` (an LP: seconds on thousands of contact
+        points) only when a certificate first needs the correction."""
+        self._opening = find
+
     def dual_bound(self, y, k, a, b, lo, hi):
         """Exact lower bound on ``min -N_k`` over the admissible statics with alpha in
         [a, b] and ``lo <= -N <= hi`` (hi may hold inf), from multipliers y (floats).
@@ -112,10 +125,13 @@ class ExactData:
         r = self._reduced(t, k)
         bad = [j for j in range(self.nc) if r[j] > 0 and not math.isfinite(hi[j])]
         if bad:
+            if self.y0 is None and self._opening is not None:
+                find, self._opening = self._opening, None
+                self.use_opening_motion(find())
             if self.y0 is None:
                 return None
             # reduced costs are convex in y: r(y + s y0) <= r(y) + s r0, exactly
-            step = max(r[j] / -self.r0[j] for j in bad)
+            step = max(r[j] / -self.r0[j] for j in bad) * self.step_slack
             t0, f0, fb = self.y0
             t = [ti + step * si for ti, si in zip(t, t0)]
             yf0, yfb = yf0 + step * f0, yfb + step * fb
@@ -152,8 +168,7 @@ class ExactData:
         columns. The statics is rebuilt with the LP's basic columns solved exactly."""
         if answer.basic is None:
             return None
-        nc, nb = self.nc, self.nb
-        lo, hi = limits
+        nc = self.nc
         ncol = 3 * nc + 1
         dq = [_q(v) for v in d_shrunk]
         # columns (n1, n2, V) per contact then alpha, as sparse rational columns
@@ -171,32 +186,9 @@ class ExactData:
                 out[i] = out.get(i, Fraction(0)) + sign * dq[k] * v
             return out
 
-        basic = np.flatnonzero(answer.basic)
-        if basic.size != 3 * nb:
+        x = rebuild(column, ncol, answer, limits, [-v for v in self.f0])
+        if x is None:
             return None
-        x = [None] * ncol
-        rhs = [-v for v in self.f0]
-        for j in range(ncol):
-            if answer.basic[j]:
-                continue
-            bound = hi[j] if answer.at_upper[j] else lo[j]
-            if not math.isfinite(bound):
-                bound = 0.0  # a free column nonbasic at zero
-            x[j] = _q(bound)
-            if x[j]:
-                for i, v in column(j).items():
-                    rhs[i] -= v * x[j]
-        rows = [dict() for _ in range(3 * nb)]
-        for p, j in enumerate(basic):
-            for i, v in column(j).items():
-                if v:
-                    rows[i][p] = v
-        order = _column_order(rows, basic.size)
-        sol = solve_exact(rows, rhs, order)
-        if sol is None:
-            return None
-        for p, j in enumerate(basic):
-            x[j] = sol[p]
         alpha = x[-1]
         N = [-(x[3 * k] + x[3 * k + 1]) for k in range(nc)]
         V = [x[3 * k + 2] for k in range(nc)]
@@ -220,6 +212,74 @@ class ExactData:
             if abs(V[k]) > c[k] or self.d[k] * N[k] - M[k] > 0 or self.d[k] * N[k] + M[k] > 0:
                 return False
         return True
+
+
+def rebuild(column, ncol, answer, limits, rhs, room=None):
+    """An LP's point rebuilt exactly from its basis (a list of Fractions), or None.
+
+    ``column(j)``: column j of the equality rows ``B x = rhs`` as {row: Fraction};
+    ``answer.basic``/``answer.at_upper``: HiGHS's basis; ``limits``: (lo, hi) where the
+    nonbasic columns sit (a free nonbasic column at 0). The basic columns are solved
+    exactly, so the rows hold exactly. Where HiGHS left a row's slack basic (a row held
+    to its tolerance only), ``room`` (bool per column: its bound was shrunk inside the
+    true one, so it may move a little) names the nonbasic columns that may complete the
+    basis (chosen by a float QR with pivoting)."""
+    if answer.basic is None:
+        return None
+    lo, hi = limits
+    # a fixed column (a zero cohesion) sits at its value even where HiGHS calls it basic
+    fixed = np.asarray(lo) == np.asarray(hi)
+    basic = np.flatnonzero(answer.basic & ~fixed)
+    if basic.size > len(rhs):
+        return None
+    if basic.size < len(rhs) and room is not None:
+        basic = _completed(column, basic, np.flatnonzero(np.asarray(room) & ~answer.basic & ~fixed), len(rhs))
+    x = [None] * ncol
+    rhs = list(rhs)
+    set_basic = set(basic.tolist())
+    for j in range(ncol):
+        if j in set_basic:
+            continue
+        bound = hi[j] if answer.at_upper[j] else lo[j]
+        if not math.isfinite(bound):
+            bound = 0.0  # a free column nonbasic at zero
+        x[j] = _q(bound)
+        if x[j]:
+            for i, v in column(j).items():
+                rhs[i] -= v * x[j]
+    rows = [dict() for _ in range(len(rhs))]
+    for p, j in enumerate(basic):
+        for i, v in column(j).items():
+            if v:
+                rows[i][p] = v
+    sol = solve_exact(rows, rhs, _column_order(rows, basic.size))
+    if sol is None:
+        return None
+    for p, j in enumerate(basic):
+        x[j] = sol[p]
+    return x
+
+
+def _completed(column, basic, candidates, m):
+    """``basic`` and as many of ``candidates`` as make m independent columns (floats)."""
+    import scipy.linalg as la
+
+    def dense(cols):
+        M = np.zeros((m, len(cols)))
+        for q, j in enumerate(cols):
+            for i, v in column(int(j)).items():
+                M[i, q] = float(v)
+        return M
+    B, C = dense(basic), dense(candidates)
+    if not candidates.size:
+        return basic
+    Q = la.qr(B, mode="economic")[0] if basic.size else np.zeros((m, 0))
+    C = C - Q @ (Q.T @ C)
+    _, R, piv = la.qr(C, mode="economic", pivoting=True)
+    d = np.abs(np.diag(R))
+    need = m - basic.size
+    take = [candidates[piv[q]] for q in range(min(need, d.size)) if d[q] > 1e-9 * max(1.0, d[0])]
+    return np.sort(np.concatenate([basic, np.asarray(take, int)]))
 
 
 def _dyadic(values):
@@ -254,7 +314,7 @@ def _column_order(rows, n):
     B = sp.csc_matrix((v, (r, c)), shape=(len(rows), n))
     try:
         return list(splu(B, permc_spec="COLAMD").perm_c.argsort())
-    except RuntimeError:  # singular in floating point: the exact solve will say so too
+    except (RuntimeError, ValueError):  # singular or not square: the exact solve decides
         return list(range(n))
 
 
@@ -289,6 +349,8 @@ def solve_exact(rows, rhs, order):
                     rows[i].pop(jj, None)
                     where[jj].discard(i)
             b[i] -= f * b[p]
+    if any(b[i] for i in range(len(rows)) if i not in used):
+        return None  # more rows than unknowns and these do not hold
     x = {}
     for p, j in reversed(pivots):
         acc = b[p] - sum((v * x[jj] for jj, v in rows[p].items() if jj != j), Fraction(0))

@@ -14,15 +14,28 @@ import time
 from dataclasses import dataclass
 
 from ..structure import Structure
+from ..structure3d import Structure3D
 
 #: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
 PROVEN_TOL = 1e-6
-#: The default budget is counted in LP solves, so that the same structure gets the same
-#: bound on any machine: this fraction of the search's own LP solves, at least LP_FLOOR
-#: (the proofs of the seed's arch, portal and portal_columns take 99, 78 and 77 LPs;
-#: wall33 and wall55 stay at 0 after 500 LPs and after 330,000). A seconds backstop of
-#: the search's own time, at least FLOOR_SECONDS, guards against pathological LPs only.
-BUDGET_FRACTION, LP_FLOOR, FLOOR_SECONDS = 0.25, 200, 2.0
+#: The default bound is the root's rounds to their fixed point: they end when a round
+#: raises nothing (each round: one cohesive LP, then one Nmin LP per contact its mechanism
+#: slides on). That proves the seed's arch, portal and portal_columns (116, 95, 92 LPs,
+#: 0.2-0.5 s of CPU against a 3-4 s search) and costs 4 LPs on wall33 (0.01 s, the search
+#: 0.4 s) and 17 on wall55 (0.06 s, the search 1 s), where the branching proves nothing
+#: in 500 LPs nor in 48,000 (benchmarks/lower_bound.py; measured under load). The
+#: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
+#: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
+#: on any machine; the arches and portals take at most 8) and the search's own seconds,
+#: at least FLOOR_SECONDS.
+LPS_PER_CONTACT, FLOOR_SECONDS = 16, 2.0
+#: In space a block on three or more contact points can rest on any three of them, so at
+#: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
+#: most LPS_PER_POINT LPs per contact point and MAX_LPS_3D in all (counted: the same bound
+#: on any machine), with a quarter of the search's seconds, at least FLOOR_SECONDS_3D, as a
+#: guard. A block 1 x 0.5 x 2 on four points is proven at its 0.5 in 117 LPs (0.09 s); a
+#: 10-block panel (88 points) is left at 0 after 128 (0.3 s, the search 0.4 s).
+LPS_PER_POINT, MAX_LPS_3D, SHARE_3D, FLOOR_SECONDS_3D = 32, 128, 0.25, 1.0
 
 
 @dataclass
@@ -55,15 +68,18 @@ class LowerBound:
         return self.alpha_upper - self.alpha_lower
 
 
-def default_budget(search_seconds: float, search_lps: int) -> tuple[float, int]:
-    """(seconds backstop, LP solves) for the bound after a search that took
-    ``search_seconds`` and ``search_lps`` LP solves."""
-    return max(FLOOR_SECONDS, float(search_seconds)), max(LP_FLOOR, int(BUDGET_FRACTION * search_lps))
+def default_budget(search_seconds: float, structure) -> dict:
+    """The keyword arguments of :func:`lower_bound` for the default bound on ``structure``
+    after a search that took ``search_seconds`` (see LPS_PER_CONTACT, LPS_PER_POINT)."""
+    if getattr(structure, "dimension", 2) == 3:
+        return {"budget": max(FLOOR_SECONDS_3D, SHARE_3D * float(search_seconds)),
+                "max_lps": min(MAX_LPS_3D, LPS_PER_POINT * max(1, structure.n_points))}
+    return {"budget": max(FLOOR_SECONDS, float(search_seconds)), "max_nodes": 1, "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
 
 
-def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
+def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = 10.0,
                 alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
-                max_lps: int | None = None) -> LowerBound:
+                max_lps: int | None = None, eager_root: bool = False) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 
     ``alpha_upper``: the best certified alpha (any number works as the top of the searched
@@ -74,7 +90,10 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
     ``max_nodes``: stop after this many nodes (1: the root's rounds only), whatever the
     time left: a count gives the same bound on any machine; ``max_lps`` likewise stops
     after this many LP solves (checked before each). ``pairs``: where the polygon
-    bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all"."""
+    bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all".
+    ``eager_root``: the root's first round solves every contact's Nmin LP, not only
+    those its cohesive mechanism slides on (same proofs on the seed's instances, 17 times
+    the LPs on a running-bond wall)."""
     from .branch import BranchAndBound
     t0 = time.perf_counter()
     structure.validate()
@@ -82,7 +101,7 @@ def lower_bound(structure: Structure, alpha_upper: float, budget: float = 10.0,
         return LowerBound(math.nan, alpha_upper, False, 0, 0, 0, 0, 0, 0.0, "none")
     deadline = time.monotonic() + float(budget)
     bb = BranchAndBound(structure, alpha_upper, deadline, alpha_split=alpha_split, max_nodes=max_nodes,
-                        pairs=pairs, max_lps=max_lps)
+                        pairs=pairs, max_lps=max_lps, eager_root=eager_root)
     L, open_nodes = bb.run(0.0)
     p = bb.progress
     proven = alpha_upper - L <= PROVEN_TOL * max(1.0, alpha_upper)

@@ -23,20 +23,19 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-import highspy
 import numpy as np
 import scipy.sparse as sp
 
 from ..formulation.matrices import cohesive_matrix, equilibrium_matrix, generator_matrix, load_vectors
 from ..formulation.scaling import scaled as _scaled
 from ..formulation.scaling import scales as _scales
-from ..search.highs import QuietHighs
+from ..search.highs import INF, HighsLP
+from ..search.options import Deadline, Stopped
 from ..structure import Structure
 from .exact import weights
 
-INF = highspy.kHighsInf
-#: HiGHS's feasibility tolerances on the scaled LPs (their answers are re-checked exactly).
-TOLERANCE = 1e-9
+#: HiGHS's basis status codes (highspy.HighsBasisStatus: kLower 0, kBasic 1, kUpper 2)
+_BASIC, _UPPER = 1, 2
 
 
 @dataclass
@@ -52,30 +51,10 @@ class LPAnswer:
     slide_rate: np.ndarray | None = None  # cohesive: d alpha / d c_k (user units), >= 0
 
 
-def _highs(A, cost, col_lo, col_hi, row_lo, row_hi) -> highspy.Highs:
-    A = sp.csc_matrix(A)
-    h = QuietHighs()
-    h.setOptionValue("primal_feasibility_tolerance", TOLERANCE)
-    h.setOptionValue("dual_feasibility_tolerance", TOLERANCE)
-    lp = highspy.HighsLp()
-    lp.num_col_, lp.num_row_ = A.shape[1], A.shape[0]
-    lp.col_cost_, lp.col_lower_, lp.col_upper_ = cost, col_lo, col_hi
-    lp.row_lower_, lp.row_upper_ = row_lo, row_hi
-    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-    lp.a_matrix_.start_ = A.indptr.astype(np.int32)
-    lp.a_matrix_.index_ = A.indices.astype(np.int32)
-    lp.a_matrix_.value_ = A.data.astype(float)
-    h.passModel(lp)
-    return h
-
-
-def _status(h) -> str:
-    st = h.getModelStatus()
-    if st == highspy.HighsModelStatus.kOptimal:
-        return "optimal"
-    if st == highspy.HighsModelStatus.kInfeasible:
-        return "infeasible"
-    return h.modelStatusToString(st).lower()
+def _lp(A, cost, col_lo, col_hi, row_lo, row_hi, name) -> HighsLP:
+    """The project's HiGHS wrapper at its tolerance (1e-9, what the exact checks were
+    tuned on), warm re-solves by HiGHS's default dual simplex."""
+    return HighsLP(A, row_lo, cost, col_lo, col_hi, name=name, b_hi=row_hi, warm="dual")
 
 
 class BoundLPs:
@@ -85,51 +64,73 @@ class BoundLPs:
     """
 
     def __init__(self, structure: Structure, margin: float = 1e-9):
-        s = structure
-        self.structure = s
-        self.nb, self.nc = s.n_blocks, s.n_contacts
-        self.F, self.L = _scales(s)
-        ss = _scaled(s, self.F, self.L)
-        A = equilibrium_matrix(ss)
-        f0, fb = load_vectors(ss)
-        self.f0s, self.fbs = f0, fb
-        nb, nc = self.nb, self.nc
-        # y in user units: force rows keep their value, moment rows are divided by L
-        self.y_user = np.tile([1.0, 1.0, 1.0 / self.L], nb)
+        self.structure = structure
+        self.margin = margin
         self.n_solves = 0
         self.lp_seconds = 0.0
-        # ---- statics in generator form: lambda (4 nc), alpha; rows: 3 nb equilibrium, nc box
-        E = sp.csc_matrix(A @ generator_matrix(ss))
-        box = sp.csr_matrix((np.ones(4 * nc), (np.repeat(np.arange(nc), 4), np.arange(4 * nc))),
-                            shape=(nc, 4 * nc))
-        M = sp.bmat([[E, sp.csc_matrix(fb.reshape(-1, 1))], [box, None]], format="csc")
-        self.stat = _highs(M, np.zeros(4 * nc + 1), np.zeros(4 * nc + 1), np.full(4 * nc + 1, INF),
-                           np.concatenate([-f0, np.zeros(nc)]), np.concatenate([-f0, np.full(nc, INF)]))
-        self._stat_cost = np.zeros(4 * nc + 1)
-        # ---- cohesive LP: (n1, n2, V) per contact, alpha; max alpha
-        self.margin = margin
+        self._setup()
+
+    def _setup(self):
+        """The plane: eq. (1)-(4) on contacts (N, V, M), four generators per contact."""
+        s = self.structure
+        self.nc = s.n_contacts
+        ss, A, f0, fb = self._scaled(_scales, _scaled, equilibrium_matrix, load_vectors, 2)
         shrunk = _scaled(s, self.F, self.L)
-        shrunk.d = ss.d * (1.0 - margin)
-        self.d_shrunk = s.d * (1.0 - margin)  # the half-lengths the exact check rebuilds with
-        Ec = sp.csc_matrix(A @ cohesive_matrix(shrunk))
-        Mc = sp.hstack([Ec, sp.csc_matrix(fb.reshape(-1, 1))], format="csc")
-        cost = np.zeros(3 * nc + 1)
-        cost[-1] = -1.0
-        lo = np.zeros(3 * nc + 1)
-        hi = np.full(3 * nc + 1, INF)
+        shrunk.d = ss.d * (1.0 - self.margin)
+        self.d_shrunk = s.d * (1.0 - self.margin)  # the half-lengths the exact check rebuilds with
+        nc = self.nc
+        # cohesive columns (n1, n2, V) per contact, alpha: n >= 0, |V| <= c, alpha free
+        lo, hi = np.zeros(3 * nc + 1), np.full(3 * nc + 1, INF)
         lo[-1] = -INF
-        self.coh = _highs(Mc, cost, lo, hi, -f0, -f0)
-        self._Mc = Mc
+        self._build(A, f0, fb, generator_matrix(ss), 4, cohesive_matrix(shrunk), lo, hi,
+                    np.arange(2, 3 * nc, 3), np.arange(nc), 1.0)
+
+    def _scaled(self, scales, scaled, equilibrium, loads, dim):
+        """The non-dimensional structure (forces by F, lengths by L) and its (A, f0, fbar),
+        from the plane's or space's formulation functions; ``y_user`` maps multipliers of
+        its equilibrium rows to the user's units (moment rows divided by L)."""
+        s = self.structure
+        self.nb = s.n_blocks
+        self.F, self.L = scales(s)
+        ss = scaled(s, self.F, self.L)
+        f0, fb = loads(ss)
+        per_block = [1.0] * dim + [1.0 / self.L] * (1 if dim == 2 else 3)
+        self.y_user = np.tile(per_block, self.nb)
+        return ss, equilibrium(ss), f0, fb
+
+    def _build(self, A, f0, fb, G, g, C, coh_lo, coh_hi, coh_idx, coh_point, coh_coef):
+        """The two LPs on the scaled matrices: A (equilibrium), f0, fb; G the cone's
+        generators (g per contact, contiguous); C the cohesive LP's columns (alpha after
+        them), with bounds coh_lo/coh_hi (alpha's included) except the cohesion columns
+        coh_idx (of the contacts coh_point), whose bounds are ``+/- coh_coef c``."""
+        nc, neq = self.nc, A.shape[0]
+        self.g, self.neq = g, neq
+        # ---- statics in generator form: lambda (g nc), alpha; rows: equilibrium, nc box
+        self._E = E = sp.csc_matrix(A @ G)
+        box = sp.csr_matrix((np.ones(g * nc), (np.repeat(np.arange(nc), g), np.arange(g * nc))),
+                            shape=(nc, g * nc))
+        M = sp.bmat([[E, sp.csc_matrix(fb.reshape(-1, 1))], [box, None]], format="csc")
+        self.stat = _lp(M, np.zeros(g * nc + 1), np.zeros(g * nc + 1), np.full(g * nc + 1, INF),
+                        np.concatenate([-f0, np.zeros(nc)]), np.concatenate([-f0, np.full(nc, INF)]), "bound-N")
+        # ---- cohesive LP: max alpha
+        Mc = sp.hstack([sp.csc_matrix(A @ C), sp.csc_matrix(fb.reshape(-1, 1))], format="csc")
+        cost = np.zeros(Mc.shape[1])
+        cost[-1] = -1.0
+        self._coh_lo, self._coh_hi = np.asarray(coh_lo, float), np.asarray(coh_hi, float)
+        self._coh_idx, self._coh_point, self._coh_coef = np.asarray(coh_idx), np.asarray(coh_point), coh_coef
+        self.coh = _lp(Mc, cost, self._coh_lo, self._coh_hi, -f0, -f0, "bound-coh")
 
     # ------------------------------------------------------------------ running HiGHS
-    def _run(self, h, deadline: float | None):
-        if deadline is not None:
-            h.setOptionValue("time_limit", max(1e-3, deadline - time.monotonic()))
+    def _run(self, lp: HighsLP, deadline: float | None) -> str:
+        """Solve; "stopped" when the deadline (time.monotonic) passed (the caller ends)."""
         t = time.perf_counter()
-        h.run()
-        self.lp_seconds += time.perf_counter() - t
         self.n_solves += 1
-        return _status(h)
+        try:
+            return lp.solve(deadline=None if deadline is None else Deadline(deadline))
+        except Stopped:
+            return "stopped"
+        finally:
+            self.lp_seconds += time.perf_counter() - t
 
     # ------------------------------------------------------------------ Nmin / Nmax
     def normal_force(self, k, a, b, lo, hi, maximize=False, deadline=None) -> LPAnswer:
@@ -138,33 +139,27 @@ class BoundLPs:
         ``k`` a dict {contact: weight}: the weighted sum of the ``-N``. ``k=None``: a
         feasibility LP (zero objective); when infeasible, ``y`` is HiGHS's Farkas ray.
         ``x`` of the answer: ``-N`` of every contact at the optimum."""
-        nc = self.nc
-        cost = np.zeros(4 * nc + 1)
+        nc, g = self.nc, self.g
+        cost = np.zeros(g * nc + 1)
         for j, w in weights(k).items():
-            cost[4 * j:4 * j + 4] = -w if maximize else w
-        changed = np.flatnonzero(cost != self._stat_cost)
-        if changed.size:
-            self.stat.changeColsCost(changed.size, changed.astype(np.int32), cost[changed])
-            self._stat_cost = cost
-        self.stat.changeColBounds(4 * nc, float(a), float(b))
-        rows = np.arange(self.nb * 3, self.nb * 3 + nc, dtype=np.int32)
+            cost[g * j:g * j + g] = -w if maximize else w
+        self.stat.set_cost(cost)
+        self.stat.set_bounds([float(a)], [float(b)], idx=[g * nc])
+        rows = np.arange(self.neq, self.neq + nc)
         hi_s = np.where(np.isfinite(hi), np.asarray(hi, float) / self.F, INF)
-        self.stat.changeRowsBounds(nc, rows, np.asarray(lo, float) / self.F, hi_s)
+        self.stat.set_row_bounds(np.asarray(lo, float) / self.F, hi_s, idx=rows)
         status = self._run(self.stat, deadline)
         if status == "infeasible":
-            ok, has, ray = self.stat.getDualRay()
-            y = None
-            if has:
-                # HiGHS's ray proves infeasibility of its rows; either sign may be ours: the
-                # exact check (exact.dual_bound with k=None) decides, trying both
-                y = np.asarray(ray, float)[:3 * self.nb] * self.y_user
+            ray = self.stat.dual_ray()
+            # HiGHS's ray proves infeasibility of its rows; either sign may be ours: the
+            # exact check (exact.dual_bound with k=None) decides, trying both
+            y = None if ray is None else ray[:self.neq] * self.y_user
             return LPAnswer("infeasible", y=y)
         if status != "optimal":
             return LPAnswer(status)
-        sol = self.stat.getSolution()
-        value = self.stat.getInfo().objective_function_value * self.F
-        n = np.asarray(sol.col_value, float)[:4 * nc].reshape(nc, 4).sum(axis=1) * self.F
-        y = -np.asarray(sol.row_dual, float)[:3 * self.nb] * self.y_user
+        value = self.stat.objective() * self.F
+        n = self.stat.x()[:g * nc].reshape(nc, g).sum(axis=1) * self.F
+        y = -self.stat.duals()[0][:self.neq] * self.y_user
         if maximize:
             value, y = -value, -y
         return LPAnswer("optimal", value=value, y=y, x=n)
@@ -174,34 +169,27 @@ class BoundLPs:
         """max alpha of the fictitious cohesive system with cohesions ``c`` (user units),
         each shrunk by the margin. ``x`` in user units; ``slide_rate[k]`` is the rate at
         which alpha grows with c_k (the flow of contact k in the cohesive mechanism)."""
-        nc = self.nc
-        cs = np.maximum(np.asarray(c, float), 0.0) * (1.0 - self.margin) / self.F
-        idx = np.arange(2, 3 * nc, 3, dtype=np.int32)
-        self.coh.changeColsBounds(nc, idx, -cs, cs)
+        idx = self._coh_idx
+        cs = self._coh_coef * np.maximum(np.asarray(c, float), 0.0)[self._coh_point] * (1.0 - self.margin) / self.F
+        self.coh.set_bounds(-cs, cs, idx=idx)
         status = self._run(self.coh, deadline)
         if status != "optimal":
             return LPAnswer(status)
-        sol = self.coh.getSolution()
-        x = np.asarray(sol.col_value, float).copy()
+        x = self.coh.x()
         x[:-1] *= self.F
-        basis = self.coh.getBasis()
-        st = np.array([int(v) for v in basis.col_status])
-        row_basic = np.array([int(v) for v in basis.row_status]) == int(highspy.HighsBasisStatus.kBasic)
-        basic = st == int(highspy.HighsBasisStatus.kBasic)
-        if row_basic.any():
-            basic = None  # a degenerate basis with an equilibrium row's slack basic
-        rate = np.abs(np.asarray(sol.col_dual, float)[idx]) / self.F
-        return LPAnswer("optimal", value=float(x[-1]), x=x, basic=basic,
-                        at_upper=st == int(highspy.HighsBasisStatus.kUpper), slide_rate=rate)
+        col_status, row_status = self.coh.portable_basis()
+        basic = col_status == _BASIC  # an equilibrium row's slack may be basic too (degenerate)
+        rate = np.bincount(self._coh_point, self._coh_coef * np.abs(self.coh.duals()[1][idx]),
+                           minlength=self.nc) / self.F
+        return LPAnswer("optimal", value=float(x[-1]), x=x, basic=basic, at_upper=col_status == _UPPER,
+                        slide_rate=rate)
 
     def cohesive_limits(self, c):
         """The cohesive columns' bounds (user units, shrunk): what a nonbasic column sits on."""
-        nc = self.nc
-        cs = np.maximum(np.asarray(c, float), 0.0) * (1.0 - self.margin)
-        lo = np.zeros(3 * nc + 1)
-        hi = np.full(3 * nc + 1, np.inf)
-        lo[2::3][:nc], hi[2::3][:nc] = -cs, cs
-        lo[-1] = -np.inf
+        cs = self._coh_coef * np.maximum(np.asarray(c, float), 0.0)[self._coh_point] * (1.0 - self.margin)
+        lo = np.where(self._coh_lo <= -INF, -np.inf, self._coh_lo * self.F)
+        hi = np.where(self._coh_hi >= INF, np.inf, self._coh_hi * self.F)
+        lo[self._coh_idx], hi[self._coh_idx] = -cs, cs
         return lo, hi
 
     # ------------------------------------------------------------------ correction direction
@@ -209,19 +197,19 @@ class BoundLPs:
         """A motion y0 (user units) that opens every contact strictly inside the
         associative flow cone (``-N``'s reduced cost strictly negative at every contact),
         or None when there is none (a compressive self-stress exists)."""
-        nb, nc = self.nb, self.nc
-        ss = _scaled(self.structure, self.F, self.L)
-        E = sp.csc_matrix(equilibrium_matrix(ss) @ generator_matrix(ss))
-        # variables (y0 (3 nb) in [-1, 1], tau); rows E^T y0 - tau >= 0 (4 nc); max tau
-        M = sp.hstack([E.T, -np.ones((4 * nc, 1))], format="csc")
-        cost = np.zeros(3 * nb + 1)
+        neq, ng = self._E.shape
+        # variables (y0 (one per equilibrium row) in [-1, 1], tau); rows E^T y0 - tau >= 0
+        # (one per generator: with generators spanning a cone that holds the Coulomb
+        # cone, this opens every contact strictly inside its flow cone); max tau
+        M = sp.hstack([self._E.T, -np.ones((ng, 1))], format="csc")
+        cost = np.zeros(neq + 1)
         cost[-1] = -1.0
-        lo = np.concatenate([-np.ones(3 * nb), [-INF]])
-        hi = np.concatenate([np.ones(3 * nb), [1.0]])
-        h = _highs(M, cost, lo, hi, np.zeros(4 * nc), np.full(4 * nc, INF))
-        if self._run(h, None) != "optimal":
+        lo = np.concatenate([-np.ones(neq), [-INF]])
+        hi = np.concatenate([np.ones(neq), [1.0]])
+        lp = _lp(M, cost, lo, hi, np.zeros(ng), np.full(ng, INF), "bound-open")
+        if self._run(lp, None) != "optimal":
             return None
-        x = np.asarray(h.getSolution().col_value, float)
+        x = lp.x()
         if not x[-1] > 1e-9:
             return None
         return x[:-1] * self.y_user

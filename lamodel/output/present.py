@@ -135,7 +135,7 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
             return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
                                        report=report, animate=animate, moving=(rolling, axles, positions),
-                                       view=view, echo=echo)
+                                       view=view, echo=echo, prove=prove)
         present3d.refuse_spatial_options(inputs, view)
         return _analyse(structure, source, options, out, method, seed_ga, picture, report, animate,
                         (rolling, axles, positions), echo, command, painter, prove)

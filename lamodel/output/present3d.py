@@ -155,15 +155,18 @@ def _run_methods(s, method, kw):
 
 
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,
-              animate=None, moving=(None, None, None), view=None, echo=None):
+              animate=None, moving=(None, None, None), view=None, echo=None, prove=None):
     """Solve a :class:`lamodel.structure3d.Structure3D` and write its result folder (see the
     module doc); what :func:`lamodel.analyse` does for a 3D input. ``view``: a .html path
-    for the browser view (inside ``out`` it is part of the folder). Returns an
-    :class:`Analysis3D`."""
+    for the browser view (inside ``out`` it is part of the folder). ``prove``: seconds for
+    the proven lower bound ``alpha_lower`` (default: :func:`lamodel.bound.lower.default_budget`).
+    Returns an :class:`Analysis3D`."""
     from ..io.files import safe_folder_name
     from ..search.options import catch_sigint, restore_sigint
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
-    from .results3d import summary_row, write_results3d
+    from .results3d import bound_columns3d, summary_row, write_results3d
+    from .words import bound_words
+    import pandas as pd
     from .words3d import describe3d
 
     refuse_planar_options(method, seed_ga, options, moving, report, animate)
@@ -191,7 +194,8 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
         extra |= {k: (Path(p).name if k in inside else str(p or "")) for k, p in extras.items()}
         summary = summary_row(structure, result, kept, extra)
         summary["wall_time_s"] = time.perf_counter() - t0
-        words = describe3d(structure, result.motions, result.modes)
+        summary |= bound_columns3d(structure, result, summary["wall_time_s"], prove)
+        words = describe3d(structure, result.motions, result.modes) + bound_words(pd.DataFrame([summary]))
         write_results3d(stage.path, structure, result, summary, runs, methods)
         _draw({k: stage.path / Path(p).name for k, p in inside.items()}, structure, result)
         stage.publish()

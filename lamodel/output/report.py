@@ -77,18 +77,23 @@ def lower_bound_columns(outcome: Outcome, prove: float | None = None) -> dict:
     NaN when nothing was proved), ``proven_global`` (alpha is the global minimum within
     1e-6 relative), ``alpha_lower_seconds`` and ``alpha_lower_check`` (the exact check of
     its certificates). The top of the searched range is the certified alpha (else the
-    associative bound). ``prove``: seconds for the bound; default a quarter of the
-    search's LP solves (at least 200: counted, so that a structure gets the same bound on any
-    machine), with a seconds backstop."""
-    from ..bound.lower import default_budget, lower_bound
+    associative bound). ``prove``: seconds for the bound (the branch-and-bound);
+    default :func:`lamodel.bound.lower.default_budget`."""
     upper = outcome.best.alpha if outcome.best is not None else outcome.alpha_associative
-    if outcome.status not in ("certified", "not_certified") or not np.isfinite(upper):
+    ok = outcome.status in ("certified", "not_certified")
+    return bound_columns(outcome.structure, upper if ok else np.nan, outcome.best is not None,
+                         outcome.wall_time_s, prove)
+
+
+def bound_columns(structure, upper: float, certified: bool, search_seconds: float,
+                  prove: float | None = None) -> dict:
+    """The columns of :func:`lower_bound_columns` for any structure (plane or space) whose
+    search took ``search_seconds`` and gave ``upper`` (NaN: no bound is computed)."""
+    from ..bound.lower import default_budget, lower_bound
+    if not np.isfinite(upper):
         return {"alpha_lower": np.nan, "proven_global": False, "alpha_lower_seconds": 0.0,
                 "alpha_lower_check": "none"}
-    if prove is not None:
-        budget, max_lps = prove, None
-    else:
-        budget, max_lps = default_budget(outcome.wall_time_s, sum(int(r.iterations or 0) for r in outcome.runs))
-    lb = lower_bound(outcome.structure, upper, budget=budget, max_lps=max_lps)
-    return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": lb.proven_global and outcome.best is not None,
+    limits = {"budget": prove} if prove is not None else default_budget(search_seconds, structure)
+    lb = lower_bound(structure, upper, **limits)
+    return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": lb.proven_global and certified,
             "alpha_lower_seconds": lb.time, "alpha_lower_check": lb.exact_check}

@@ -69,6 +69,17 @@ def summary_row(s: Structure3D, result, method: str, extra: dict) -> dict:
     return row
 
 
+def bound_columns3d(s: Structure3D, result, search_seconds: float, prove: float | None = None) -> dict:
+    """summary.csv's columns of the proven lower bound in space
+    (:func:`lamodel.output.report.bound_columns`): the top of the range is the certified
+    alpha, else the associative bound; none for an unstable structure or one that does
+    not collapse."""
+    from .report import bound_columns
+    upper = result.alpha if result.state is not None else result.associative
+    ok = result.status in ("certified", "none certified")
+    return bound_columns(s, upper if ok else np.nan, result.state is not None, search_seconds, prove)
+
+
 def runs_frame(runs: list) -> pd.DataFrame:
     """runs.csv from (method, its ``Result3D.methods`` entry or a row) pairs."""
     rows = []

@@ -312,6 +312,12 @@ class HighsLP:
     def objective(self) -> float:
         return float(self.h.getInfo().objective_function_value)
 
+    def dual_ray(self):
+        """HiGHS's Farkas ray of the rows after an 'infeasible' solve (either sign may be
+        the certificate: the caller checks), or None when HiGHS has none."""
+        _, has, ray = self.h.getDualRay()
+        return np.asarray(ray, float) if has else None
+
     def _basis(self):
         """(cols, rows): the basic columns and basic rows (ascending), or None if HiGHS's
         basis is not a square basis."""

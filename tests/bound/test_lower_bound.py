@@ -195,3 +195,35 @@ def test_summary_and_words_carry_the_bound(tmp_path):
     row = back.summary.iloc[0]
     assert bool(row.proven_global) and row.alpha_lower <= row.alpha
     assert "proven global minimum" in " ".join(bound_words(back.summary)).lower()
+
+
+def test_default_bound_proves_a_portal_and_stops_early_on_a_wall():
+    """The default (the root's rounds to their fixed point): the portal is proven; on a
+    running-bond wall the first round raises nothing and the bound stops within a few LPs
+    (counted, not timed), its claim 0."""
+    from lamodel.bound.lower import default_budget
+    for name, proven in (("portal_columns", True), ("wall33", False)):
+        s = read(INSTANCES / f"{name}.dat")
+        o = solve(s, SolveOptions(starts=0, progress=False))
+        lb = lower_bound(s, o.best.alpha, **default_budget(1.0, s))
+        assert lb.proven_global is proven and lb.nodes == 1
+        if not proven:
+            assert lb.alpha_lower == 0.0 and lb.lps <= 10
+
+
+def test_open_contact_probe_agrees_with_the_minimisation():
+    """The feasibility LP 'can contact k be open?' that stands in for Nmin_k = 0 answers
+    yes exactly where the minimisation gives 0 (wall33 on alpha in [0.6, 0.638982])."""
+    s = read(INSTANCES / "wall33.dat")
+    lps = BoundLPs(s)
+    nc = s.n_contacts
+    lo, hi = np.zeros(nc), np.full(nc, np.inf)
+    positive = 0
+    for k in range(nc):
+        shut = hi.copy()
+        shut[k] = 0.0
+        can_open = lps.normal_force(None, 0.6, 0.638982, lo, shut).status == "optimal"
+        nmin = lps.normal_force(k, 0.6, 0.638982, lo, hi).value
+        assert can_open == (nmin <= 1e-9), (k, nmin)
+        positive += not can_open
+    assert 0 < positive < nc
