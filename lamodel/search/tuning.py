@@ -150,6 +150,16 @@ STALL_WORK = 3.0
 #: continuation start) and its GA 0.444912 only at 22.8 times; with 10 times (520 LPs) its
 #: default run took 71 s, whole process (66.7 s of CPU, on a machine shared with others).
 TOTAL_WORK = 10.0
+#: ... and at WORK_PER_BLOCK times the number of blocks of LP work (simplex and interior-point
+#: iterations times the LP's rows, :attr:`lamodel.search.highs.HighsLP.work`: counted, and
+#: about proportional to time; measured 1.4e-7 to 1.6e-7 CPU seconds a unit on the 1020- and
+#: 2040-block running-bond walls): about a minute per thousand blocks. The first certificate
+#: is never cut; the bound ends what follows it where its LPs are large. Measured: the
+#: 2040-block wall's first phase alone takes 7.2e8 units (118,000 simplex iterations of 6120
+#: rows, 100 s of CPU), ten times its LP solves would take 40 minutes; the 1020-block wall's
+#: whole default run 4.0e8 (131,000 iterations of 3060 rows, 63 s of CPU), its best at 3.6e8;
+#: no case of benchmarks/families.py --quick (at most 255 blocks) reaches it.
+WORK_PER_BLOCK = 4.0e5
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
 #: Ipopt starts when --starts is not given.

@@ -44,9 +44,12 @@ class Starts:
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
         self._from_zero = None  # (state,) once the chain from zero cohesion ran
-        #: LP solves at which the chain from zero cohesion stops (None: no bound): the
-        #: driver's work bound without a time limit
+        #: LP solves, and LP work (:attr:`ScaledProblem.work`), at which the continuations
+        #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
+        #: without a time limit
         self.work_limit = None
+        self.work_bound = None
+        self.cycles = 0  # chains that met a cohesion again (see chain)
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -132,6 +135,8 @@ class Starts:
         lps = self.problem.lps
         saved = {name: None if lp.cold else lp.h.getBasis() for name, lp in lps.items()}
         for rhos in RHO_CONTS:
+            if self._spent():
+                break
             self.continuation(x_assoc, rhos)
         self.from_zero()
         for name, lp in lps.items():
@@ -148,18 +153,36 @@ class Starts:
         nearly holds are certified. Returns the least certified state of the start (or None)."""
         t = time.perf_counter()
         try:
-            best, x = self.alternate(x_assoc, rhos=rhos, source="continuation")
-            if self._stalled_below_best(x, self.record.best):
-                st, x = self.alternate(x, rhos=RHO_HIGH, source="continuation")
+            best, x = self._ladder(x_assoc, rhos)
+            if self._stalled_below_best(x, self.record.best) and not self._spent():
+                st, x = self._ladder(x, RHO_HIGH)
                 best = _least(best, st)
-                if self._stalled_below_best(x, self.record.best):
+                if self._stalled_below_best(x, self.record.best) and not self._spent():
                     best = _least(best, self.certify_near(x, "continuation-near"))
             return best
         finally:
             self.record.phase("continuation", t)
 
+    def _ladder(self, x, rhos):
+        """The alternation on the penalty ladder ``rhos`` from x, one rho at a time (the same
+        steps as the whole ladder at once: only x goes from one rho to the next), ending
+        between two rhos when the work bounds are spent. Returns (best state, last statics)."""
+        best = None
+        for rho in rhos:
+            if self._spent():
+                break
+            st, x = self.alternate(x, rhos=(rho,), source="continuation")
+            best = _least(best, st)
+        return best, x
+
+    def work(self) -> int:
+        """The LP work of the search so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
+        return sum(lp.work for lp in self.problem.lps.values())
+
     def _spent(self):
-        return self.work_limit is not None and self.problem.n_lps() >= self.work_limit
+        """The driver's work bounds (LP solves, LP work) are reached."""
+        return ((self.work_limit is not None and self.problem.n_lps() >= self.work_limit)
+                or (self.work_bound is not None and self.work() >= self.work_bound))
 
     def from_zero(self):
         """The seed's fixed-point chain from zero cohesion (:mod:`.fallback`), once: the
@@ -212,9 +235,12 @@ class Starts:
     def chain(self, c, steps, source="chain", patience=None, until=None):
         """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism.
         ``patience``: once it certified, stop after that many steps without improvement;
-        ``until()``: True stops it."""
+        ``until()``: True stops it. It also stops at a fixed point, and where the cohesions
+        repeat those of an earlier step (a cycle: the warm LPs would go round it again;
+        counted in ``cycles``)."""
         p = self.problem
         best, since = None, 0
+        seen = []  # the cohesions of the steps so far
         for _ in range(steps):
             if until is not None and until():
                 break
@@ -233,6 +259,10 @@ class Starts:
             c_new = -p.mu * p.cohesive_N(xc)
             if np.allclose(c_new, c, rtol=CHAIN_RTOL, atol=CHAIN_ATOL):
                 break
+            if any(np.allclose(c_new, old, rtol=CHAIN_RTOL, atol=CHAIN_ATOL) for old in seen):
+                self.cycles += 1
+                break
+            seen.append(c)
             c = c_new
         return best
 
