@@ -82,6 +82,7 @@ class Outcome:
     phases: dict = field(default_factory=dict)      # seconds per phase of the search
     history: list = field(default_factory=list)     # (seconds, alpha, source, LP solves) of each improvement
     lps_first: int = 0                              # LP solves of the first phase (the stopping rule's unit)
+    work: int = 0                                   # LP work of the search (HighsLP.work: iterations x rows)
 
     @property
     def certified(self) -> bool:
@@ -186,7 +187,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
                    history=list(record.history) if record is not None else [],
-                   lps_first=work.get("first", 0))
+                   lps_first=work.get("first", 0), work=engine.starts.work() if engine is not None else 0)
 
 
 # ------------------------------------------------------------------------ the search

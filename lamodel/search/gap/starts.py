@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from ..highs import INF
+from ..options import Deadline, Stopped
 from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, DESCENT_STEP, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
                       SEARCH_ACTIVE, STABLE_ALPHA)
 from .alternation import Alternation
@@ -150,30 +151,32 @@ class Starts:
         low rho lets alpha fall far before the gap is squeezed out, into other collapse
         states than the main ladder's (the penalty method's continuation). Where it stalls
         below the best certified alpha, rho goes on up (RHO_HIGH) and the rows the statics
-        nearly holds are certified. Returns the least certified state of the start (or None)."""
+        nearly holds are certified. It ends early, between two LP solves, once the work
+        bounds are spent. Returns the least certified state of the start (or None; what it
+        certified before an early end is in the record)."""
         t = time.perf_counter()
         try:
-            best, x = self._ladder(x_assoc, rhos)
-            if self._stalled_below_best(x, self.record.best) and not self._spent():
-                st, x = self._ladder(x, RHO_HIGH)
-                best = _least(best, st)
-                if self._stalled_below_best(x, self.record.best) and not self._spent():
-                    best = _least(best, self.certify_near(x, "continuation-near"))
+            with self.problem.until(self._bounded()):
+                best, x = self.alternate(x_assoc, rhos=rhos, source="continuation")
+                if self._stalled_below_best(x, self.record.best):
+                    st, x = self.alternate(x, rhos=RHO_HIGH, source="continuation")
+                    best = _least(best, st)
+                    if self._stalled_below_best(x, self.record.best):
+                        best = _least(best, self.certify_near(x, "continuation-near"))
             return best
+        except Stopped:
+            if self.problem.deadline.expired():  # the time limit or a stop: the search's to handle
+                raise
+            return None
         finally:
             self.record.phase("continuation", t)
 
-    def _ladder(self, x, rhos):
-        """The alternation on the penalty ladder ``rhos`` from x, one rho at a time (the same
-        steps as the whole ladder at once: only x goes from one rho to the next), ending
-        between two rhos when the work bounds are spent. Returns (best state, last statics)."""
-        best = None
-        for rho in rhos:
-            if self._spent():
-                break
-            st, x = self.alternate(x, rhos=(rho,), source="continuation")
-            best = _least(best, st)
-        return best, x
+    def _bounded(self) -> Deadline:
+        """The search's deadline, which also expires once the work bounds are spent. The work
+        grows only when a solve ends, so it expires between two solves: no LP is cut inside
+        HiGHS (the LPs stay usable), the next one raises Stopped before it starts."""
+        real = self.problem.deadline
+        return Deadline(real.at, lambda: real.expired() or self._spent())
 
     def work(self) -> int:
         """The LP work of the search so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
@@ -196,7 +199,12 @@ class Starts:
         if self._from_zero is None:
             t = time.perf_counter()
             try:
-                self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
+                with self.problem.until(self._bounded()):
+                    self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
+            except Stopped:
+                if self.problem.deadline.expired():
+                    raise
+                self._from_zero = (None,)  # its states so far are in the record
             finally:
                 self.record.phase("zero cohesion", t)
         return self._from_zero[0]

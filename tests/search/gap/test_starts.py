@@ -45,20 +45,25 @@ def test_near_active_rows_certify_a_stalled_statics():
     assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7
 
 
-def test_a_ladder_rho_by_rho_takes_the_steps_of_the_whole_ladder():
-    """The continuation runs its penalty ladder one rho at a time (so that the work bound
-    can end it between two): the same LPs and the same states as the whole ladder at once."""
+def test_a_continuation_ends_between_two_lps_at_the_work_bound():
+    """A continuation whose work bound is reached on the way ends after the LP that reached
+    it (no LP is cut inside HiGHS): the LPs stay usable, and what it certified before is
+    in the record."""
     s = bond(6, width=8)
-    runs = []
-    for by_rho in (False, True):
-        e = GapSearch(s)
-        _, _, x0 = e.starts.associative()
-        if by_rho:
-            best, x = e.starts._ladder(x0, RHO_CONTS[0])
-        else:
-            best, x = e.alternation.alternate(x0, rhos=RHO_CONTS[0], source="continuation")
-        runs.append((e.n_lps(), None if best is None else best.alpha, float(x[-1])))
-    assert runs[0] == runs[1]
+    e = GapSearch(s)
+    _, _, x0 = e.starts.associative()
+    e.starts.first_certificate(x0)
+    free = GapSearch(s)
+    free.starts.associative()
+    free.starts.first_certificate(x0)
+    n = free.n_lps()
+    free.starts.continuation(x0)
+    assert free.n_lps() - n > 3
+    e.starts.work_limit = e.n_lps() + 3
+    e.starts.continuation(x0)
+    assert e.n_lps() == e.starts.work_limit
+    assert not any(lp.abandoned for lp in e.problem.lps.values())
+    assert e.problem.statics()[0] == "optimal"
 
 
 def test_the_continuations_stop_at_the_work_bound():
