@@ -56,8 +56,8 @@ from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigi
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
-                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK, WORK_PER_BLOCK,
-                     Z_INIT, Z_MAX)
+                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK,
+                     WORK_PER_BLOCK, Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 

@@ -45,7 +45,7 @@ class Starts:
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
         self._from_zero = None  # (state,) once the chain from zero cohesion ran
-        #: LP solves, and LP work (:attr:`ScaledProblem.work`), at which the continuations
+        #: LP solves, and LP work (:meth:`work`), at which the continuations
         #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
         #: without a time limit
         self.work_limit = None
