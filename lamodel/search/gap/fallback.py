@@ -35,16 +35,18 @@ Why no method here is proven to certify every structure. A collapse state is a s
 s of S with zero gap ``g(s) = alpha_K(-mu N(s)) - alpha(s)``; g >= 0 on S, and g is
 concave (alpha_K is the least of affine functions of N, one a mechanism), so finding its
 zero is a concave minimisation over a polyhedron, equivalently a disjointly constrained
-bilinear program (statics x mechanisms) or a linear complementarity problem. Collapse
-states exist (a fixed point of the chain's set-valued map, by Kakutani's theorem, where
-the statics' normal forces are bounded), but the gap alternation is the successive
+bilinear program (statics x mechanisms) or a linear complementarity problem. A collapse
+state is a fixed point of the chain's set-valued map (Kakutani's theorem gives one on a
+compact convex set of cohesions where the cohesive LP keeps an optimum), but the gap
+alternation is the successive
 linearisation of g (it ends at a vertex pair that may have g > 0) and the chain is a
 fixed-point iteration (it may cycle). Methods that end finitely with a certificate are
 enumerative in the worst case: branch and bound over the complementarity of each yield
 row, e.g. as a mixed-integer LP (rows held or not) that HiGHS solves. Measured on the
 seed's 33-block panel at mu = 0.9 (332 binaries, bounds 10 times the associative statics'
 slacks and 100 times its mechanism's flows, which a certified state meets): HiGHS found
-no feasible point in 1640 nodes (4.5 s of CPU), where the search certifies in 0.3 s. Such
+no feasible point in 1640 nodes (4.5 s of CPU), where the search's first certificate takes
+under a second. Such
 a method cannot be the default run's fallback within its budget. Measured on 694 chains
 (100 random walls of 2-10 courses of random block lengths at mu 0.8-1.3, 58 arches,
 portals, walls with openings and point loads at mu 0.35-1.3, each from zero cohesion,
