@@ -154,6 +154,8 @@ def _run(spec, all_methods, total_work, queue):
                lps_best=h[-1][3] if h else np.nan)
     # the LP solves at the best state, in units of the first phase's (TOTAL_WORK's unit)
     row["best_lps_ratio"] = row["lps_best"] / row["lps_first"] if h and o.lps_first else np.nan
+    # the search's LP work against the default run's size bound (WORK_PER_BLOCK: binds at 1)
+    row["work_ratio"] = o.work / (driver.WORK_PER_BLOCK * s.n_blocks)
     least = row["alpha"]
     if all_methods:
         from lamodel.search.methods import METHODS, run_method
@@ -195,7 +197,8 @@ def summarise(df):
                          t_first_med=stable.t_first.median(), t_best_med=stable.t_best.median(),
                          total_max=stable.process.max(), worst_gap=gap.max(),
                          best_lps_ratio_med=stable.best_lps_ratio.median(),
-                         best_lps_ratio_max=stable.best_lps_ratio.max()))
+                         best_lps_ratio_max=stable.best_lps_ratio.max(),
+                         work_ratio_max=stable.work_ratio.max()))
     return pd.DataFrame(rows)
 
 
@@ -228,7 +231,7 @@ def main(argv=None):
         print(f"{fam:9s} {name:26s} {nb:5d} blocks  {row['status']:13s} alpha {row.get('alpha', np.nan):.6f}  "
               f"{row.get('path', ''):21s} first {row.get('t_first', np.nan):6.2f} s  best "
               f"{row.get('t_best', np.nan):6.2f} s  process {row['process']:6.1f} s  LPs {row.get('lps', 0)}"
-              f"  least {row.get('least', np.nan):.6f}", flush=True)
+              f"  least {row.get('least', np.nan):.6f}  work/bound {row.get('work_ratio', np.nan):.3f}", flush=True)
     df = pd.DataFrame(rows)
     Path(args.csv).parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(args.csv, index=False)

@@ -13,6 +13,14 @@ case runs in its own process (peak memory is that process's ru_maxrss), timed fr
 search's start. ``--budget S`` is the time limit; 0 means no limit (the search's own
 stopping rule). Prints one row per case and the growth exponent of the time to the
 first certificate against the number of blocks (least squares in log-log).
+
+``--cli`` times the whole command instead, as a user runs it: ``lamodel solve`` (no
+options: the default run, the proven lower bound after the search, the result folder and
+its picture) in a subprocess per case, its wall-clock and CPU seconds (its children's
+included), the search's and the bound's seconds and LP solves from the result folder, and
+the load average beside (times on a loaded machine are upper bounds; compare CPU)::
+
+    python benchmarks/scale.py --cli --cases wall33,wall55,bond40,bond80
 """
 from __future__ import annotations
 
@@ -43,16 +51,12 @@ OPENINGS = {
 
 
 def build(case: str):
-    from lamodel.geometry import running_bond_wall, seed_wall, wall_with_openings
+    from lamodel.geometry import seed_wall
     from lamodel.io.jsonspec import structure_from_json
     if case in ("wall33", "wall55"):
         return structure_from_json(seed_wall(6 if case == "wall33" else 10))
-    if case.startswith("bond"):
-        c = int(case[4:])
-        rows = [[0.5] + [1] * 24 + [0.5] if r % 2 == 0 else [1] * 25 for r in range(c)]
-        return structure_from_json(running_bond_wall(rows, name=case))
-    if case in OPENINGS:
-        return structure_from_json(wall_with_openings(name=case, **OPENINGS[case]))
+    if case.startswith("bond") or case in OPENINGS:
+        return structure_from_json(build_spec(case))
     raise SystemExit(f"unknown case '{case}'")
 
 
@@ -88,6 +92,57 @@ def run_case(case, budget, seed, queue, sigint_at=None):
     queue.put(row)
 
 
+def run_cli(case, seed):
+    """``lamodel solve`` on the case, whole process: a dict of what it took."""
+    import csv
+    import os
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        if case in ("wall33", "wall55"):
+            instance = str(ROOT / "instances" / f"{case}.dat")
+        else:
+            spec = build_spec(case)
+            instance = os.path.join(tmp, f"{case}.json")
+            with open(instance, "w") as f:
+                json.dump(spec, f)
+        out = os.path.join(tmp, "out")
+        load = os.getloadavg()[0]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t = time.perf_counter()
+        status = subprocess.run([sys.executable, "-m", "lamodel.cli", "solve", instance, "--out", out, "--quiet",
+                                 "--seed", str(seed)], env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                                stdout=subprocess.DEVNULL).returncode
+        wall = time.perf_counter() - t
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        with open(os.path.join(out, "summary.csv")) as f:
+            summary = next(csv.DictReader(f))
+        with open(os.path.join(out, "runs.csv")) as f:
+            lps = int(float(next(csv.DictReader(f))["iterations"]))
+    return dict(case=case, exit=status, alpha=float(summary["alpha"]), search=float(summary["wall_time_s"]),
+                lps=lps, bound=float(summary["alpha_lower_seconds"] or "nan"), wall=wall, cpu=cpu,
+                load=(load, os.getloadavg()[0]))
+
+
+def build_spec(case):
+    """The JSON spec of a ``bondC`` or ``doorK`` case."""
+    from lamodel.geometry import running_bond_wall, wall_with_openings
+    if case.startswith("bond"):
+        c = int(case[4:])
+        return running_bond_wall([[0.5] + [1] * 24 + [0.5] if r % 2 == 0 else [1] * 25 for r in range(c)], name=case)
+    return wall_with_openings(name=case, **OPENINGS[case])
+
+
+def main_cli(cases, seed):
+    print(f"{'case':8} {'exit':>4} {'alpha':>9} {'search_s':>8} {'LPs':>5} {'bound_s':>7} {'whole_s':>7} "
+          f"{'cpu_s':>7}  load average (before, after)", flush=True)
+    for case in cases:
+        r = run_cli(case, seed)
+        print(f"{r['case']:8} {r['exit']:4d} {r['alpha']:9.6f} {r['search']:8.2f} {r['lps']:5d} {r['bound']:7.2f} "
+              f"{r['wall']:7.2f} {r['cpu']:7.2f}  {r['load'][0]:.2f}, {r['load'][1]:.2f}", flush=True)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cases", default="wall33,wall55,door1,door2,door3,bond10,bond20,bond40,bond80")
@@ -96,7 +151,10 @@ def main(argv=None):
     ap.add_argument("--json", help="append the rows to this JSON-lines file")
     ap.add_argument("--sigint-at", type=float, help="send SIGINT (Ctrl-C) this many seconds after the "
                     "search starts; the row ends with the latency (s) from the signal to the search's return")
+    ap.add_argument("--cli", action="store_true", help="time the whole `lamodel solve` command instead (default run)")
     a = ap.parse_args(argv)
+    if a.cli:
+        return main_cli(a.cases.split(","), a.seed)
     ctx = mp.get_context("fork")
     rows = []
     head = (f"{'case':8} {'blocks':>6} {'cont':>5} {'assoc':>9} {'t_as':>6} {'first':>9} {'t_1st':>7} "

@@ -187,8 +187,15 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
     stage = ResultFolder(out, foreign_files).open()
     inside = {k: p for k, p in extras.items() if p is not None and in_folder(p, stage.final)}
     outside = {k: Path(p) for k, p in extras.items() if p is not None and k not in inside}
+    staged = {k: stage.path / Path(p).name for k, p in inside.items()}
+    drawing = painter is not None and "picture" in staged
+
+    def draw(outcome, results, dead_u):
+        """The picture, drawn in the painter's process while this one goes on."""
+        from .extras import picture_of
+        painter.start(outcome.structure, staged["picture"], picture_of(outcome, results, dead_u))
     try:
-        study, methods = None, None
+        study, methods, dead_u = None, None, _UNKNOWN
         if method != "lamodel":
             outcome, results, methods = _run_methods(method, structure, options, seed_ga, echo)
         else:
@@ -199,14 +206,17 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
             else:
                 from .report import lower_bound_columns
                 outcome = solve(structure, options)
+                dead_u = explain_unstable(outcome)
+                if drawing:  # drawn while the lower bound is proved (the picture does not show it)
+                    draw(outcome, outcome_results(outcome), dead_u)
+                    drawing = False
                 extra = lower_bound_columns(outcome, prove)
             results = outcome_results(outcome, dict(extra, method="lamodel"))
-        dead_u = explain_unstable(outcome)
+        if dead_u is _UNKNOWN:
+            dead_u = explain_unstable(outcome)
         results.summary["message"] = outcome.message  # with the blocks that move under dead load, if unstable
-        staged = {k: stage.path / Path(p).name for k, p in inside.items()}
-        if painter is not None and "picture" in staged:  # drawn there while the tables are written here
-            from .extras import picture_of
-            painter.start(outcome.structure, staged["picture"], picture_of(outcome, results, dead_u))
+        if drawing:  # drawn there while the tables are written here
+            draw(outcome, results, dead_u)
         words = words_of(outcome, results, dead_u)
         # everything in the result folder is written into the staging folder, then swapped
         # in as a whole; its files are named in summary.csv (a later run knows them as lamodel's)
@@ -226,6 +236,9 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
     write_extras(outside, outcome, results, words, dead_u, study, source, command, painter)
     shown = {k: out / Path(p).name for k, p in inside.items()} | outside
     return Analysis(structure, outcome, results, words, out, shown, study, methods)
+
+
+_UNKNOWN = object()  # explain_unstable not asked yet
 
 
 def _check_resolution(structure):

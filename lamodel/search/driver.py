@@ -25,7 +25,9 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    evaluations and LP solves against those the first certificate took (counted, not
    timed: a seed gives the same answer on any machine), at most ``generations``
    generations, or the time limit; without a time limit, at most TOTAL_WORK times the
-   first certificate's LP solves in all.
+   first certificate's LP solves in all, and at most WORK_PER_BLOCK LP work a block
+   (simplex iterations times rows: about a minute per thousand blocks), continuations
+   included.
 5. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
@@ -54,8 +56,8 @@ from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigi
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
-                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK, Z_INIT,
-                     Z_MAX)
+                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK,
+                     WORK_PER_BLOCK, Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
@@ -80,6 +82,7 @@ class Outcome:
     phases: dict = field(default_factory=dict)      # seconds per phase of the search
     history: list = field(default_factory=list)     # (seconds, alpha, source, LP solves) of each improvement
     lps_first: int = 0                              # LP solves of the first phase (the stopping rule's unit)
+    work: int = 0                                   # LP work of the search (HighsLP.work: iterations x rows)
 
     @property
     def certified(self) -> bool:
@@ -184,7 +187,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
                    history=list(record.history) if record is not None else [],
-                   lps_first=work.get("first", 0))
+                   lps_first=work.get("first", 0), work=engine.starts.work() if engine is not None else 0)
 
 
 # ------------------------------------------------------------------------ the search
@@ -226,15 +229,22 @@ def _search(engine, opt, progress, client=None, work=None):
             record.best = record.best_user = None
             return UNSTABLE, _unstable_message(engine), alpha_assoc
         lps_first = work["first"] = engine.n_lps()  # the work of the first certificate (the stopping rule)
-        if opt.time_limit is None:  # the chain from zero cohesion stops at the work bound too
-            starts.work_limit = TOTAL_WORK * lps_first
+        lp_cap = None  # without a time limit: the LP solves the search may use in all
+        if opt.time_limit is None:  # the continuations and the chain from zero cohesion stop there too
+            starts.work_limit = lp_cap = TOTAL_WORK * lps_first
+            starts.work_bound = WORK_PER_BLOCK * engine.problem.nb
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
             starts.continuations(x0)
+        if starts.work_bound is not None:
+            # the LP work left, in LP solves at the mean work of those so far (the phases
+            # before the GA run serially: the same count with any number of workers)
+            left = (starts.work_bound - starts.work()) * engine.n_lps() / max(starts.work(), 1)
+            lp_cap = min(lp_cap, engine.n_lps() + max(left, 0.0))
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")
-        _genetic_search(engine, opt, progress, client, lps_first)
+        _genetic_search(engine, opt, progress, client, lps_first, lp_cap)
     except Stopped:
         if record.best is None:
             return _nothing_certified(engine, alpha_assoc, stopped=True)
@@ -243,10 +253,11 @@ def _search(engine, opt, progress, client=None, work=None):
     return CERTIFIED, "", alpha_assoc
 
 
-def _genetic_search(engine, opt, progress, client=None, lps_first=None):
+def _genetic_search(engine, opt, progress, client=None, lps_first=None, lp_cap=None):
     """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc); with
     ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
-    in parallel (:mod:`.generations`; ``client``: a Dask connection to use)."""
+    in parallel (:mod:`.generations`; ``client``: a Dask connection to use). ``lp_cap``:
+    the search's LP solves in all stop there (None: no cap)."""
     from .ga import genetic_search
     nc, fitness_of, record = engine.problem.nc, engine.fitness, engine.record
     lps_first = max(engine.n_lps() if lps_first is None else lps_first, 1)  # the first certificate's work
@@ -255,8 +266,8 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None):
     def stalled():
         """The stopping rule: pop_size evaluations and STALL_WORK times the LPs of the
         first certificate without improvement (LPs, not seconds: deterministic); without
-        a time limit, also TOTAL_WORK times those LPs in all."""
-        if opt.time_limit is None and engine.n_lps() >= TOTAL_WORK * lps_first:
+        a time limit, also ``lp_cap`` LPs in all (the driver's work bounds)."""
+        if lp_cap is not None and engine.n_lps() >= lp_cap:
             return True
         return (state["since"] >= opt.pop_size
                 and engine.n_lps() - state["lps"] >= STALL_WORK * lps_first)

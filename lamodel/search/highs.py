@@ -88,6 +88,9 @@ class HighsLP:
         self._fresh()
         self.n_solves = 0
         self.seconds = 0.0
+        #: simplex and interior-point iterations times rows, summed over the solves: a count
+        #: that grows like their time (the search's work bound without a time limit)
+        self.work = 0
         self.trace = None  # a print-like function to log every solve
         self.warm_iterations, self.warm_seconds = 0, 0.0  # of warm solves (see _backstop)
         self.abandoned = False
@@ -255,7 +258,10 @@ class HighsLP:
             self.trace(f"    LP {self.name:9s} {dt:7.2f} s  {info.simplex_iteration_count:6d} it  "
                        f"{h.modelStatusToString(st)}")
         S = highspy.HighsModelStatus
-        iterations = h.getInfo().simplex_iteration_count
+        info = h.getInfo()
+        iterations = info.simplex_iteration_count
+        self.work += (max(iterations, 0) + max(info.ipm_iteration_count, 0) + max(info.crossover_iteration_count, 0)) \
+            * self.m
         if not was_cold and iterations > 0 and st in (S.kOptimal, S.kInfeasible, S.kUnbounded, S.kIterationLimit):
             self.warm_iterations += iterations
             self.warm_seconds += dt

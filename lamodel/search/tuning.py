@@ -150,6 +150,20 @@ STALL_WORK = 3.0
 #: continuation start) and its GA 0.444912 only at 22.8 times; with 10 times (520 LPs) its
 #: default run took 71 s, whole process (66.7 s of CPU, on a machine shared with others).
 TOTAL_WORK = 10.0
+#: ... and at WORK_PER_BLOCK times the number of blocks of LP work (simplex and interior-point
+#: iterations times the LP's rows, :attr:`lamodel.search.highs.HighsLP.work`: counted, and
+#: about proportional to time: 1.4e-7 to 1.6e-7 CPU seconds a unit measured on the 1020- and
+#: 2040-block running-bond walls), about a minute per thousand blocks; the continuations and
+#: the chain from zero cohesion end between two LP solves once it is spent, the first
+#: certificate is never cut. Measured (benchmarks/families.py --quick): no case reaches a
+#: fifth of it (work/bound at most 0.185), every alpha as without it. 1020 blocks (mu 0.65):
+#: the whole run 4.0e8 units (bound 4.08e8), its best 0.444923 at 3.6e8, as without it.
+#: 510 blocks (20 x 25, mu 0.9): the bound ends the search right after its first phase (427
+#: LPs), 0.538064 in 27 s of CPU; without it 0.536905 (the GA, at LP 3269) in 221 s. 2040
+#: blocks (mu 0.65): the first phase alone is 7.2e8 units (118,000 iterations of 6120 rows,
+#: 100 s of CPU); the search ends after 97 LPs (142 s of CPU) with 0.419543, where the
+#: continuation starts alone ran 470+ LPs of 2-10 s each before.
+WORK_PER_BLOCK = 4.0e5
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
 #: Ipopt starts when --starts is not given.

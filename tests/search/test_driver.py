@@ -238,6 +238,20 @@ def test_without_a_time_limit_the_work_is_bounded_by_the_first_certificate(monke
     assert bounded.history[0][3] == first  # the same first certificate
 
 
+def test_without_a_time_limit_the_lp_work_is_bounded_by_the_size(monkeypatch):
+    """Without a time limit the search also stops at WORK_PER_BLOCK LP work a block,
+    continuations included, but never before its first certificate: with no work left
+    after it, the search solves no LP past its first phase."""
+    from lamodel.search import driver
+    s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
+    monkeypatch.setattr(driver, "WORK_PER_BLOCK", 0.0)
+    o = solve(s, SolveOptions(starts=0))
+    assert o.certified and o.best.alpha <= o.alpha_associative
+    assert o.runs[0].iterations == o.lps_first
+    timed = solve(s, SolveOptions(starts=0, time_limit=600))
+    assert timed.runs[0].iterations > o.lps_first
+
+
 def test_runs_csv_says_which_path_certified_the_answer():
     """The fixed-point fallback certifies the 33-block panel at mu = 0.9 first, where the
     gap alternation and its rescue stall; the chain from zero cohesion then certifies the

@@ -92,3 +92,17 @@ def test_a_capped_solve_that_crawls_stops_at_its_backstop_as_if_capped(monkeypat
     assert status == "iteration limit" and x is None
     assert all(np.array_equal(a, b) for a, b in zip(before, p.stat.portable_basis()))
     assert p.statics()[0] == "optimal" and not p.deadline.expired()
+
+
+def test_the_work_of_a_solve_is_its_iterations_times_its_rows():
+    """HighsLP.work (the search's work bound) grows by the simplex iterations of a warm
+    solve times the LP's rows."""
+    p = ScaledProblem(bond(6))
+    p.statics(maximize=True)
+    before = p.stat.work
+    cost = np.zeros(p.nl + 1)
+    cost[-1] = 1.0
+    p.stat.set_cost(cost)
+    p.stat.solve()
+    its = p.stat.h.getInfo().simplex_iteration_count
+    assert its > 0 and p.stat.work - before == its * p.stat.m

@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from ..highs import INF
+from ..options import Deadline, Stopped
 from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, DESCENT_STEP, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
                       SEARCH_ACTIVE, STABLE_ALPHA)
 from .alternation import Alternation
@@ -44,9 +45,12 @@ class Starts:
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
         self._from_zero = None  # (state,) once the chain from zero cohesion ran
-        #: LP solves at which the chain from zero cohesion stops (None: no bound): the
-        #: driver's work bound without a time limit
+        #: LP solves, and LP work (:meth:`work`), at which the continuations
+        #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
+        #: without a time limit
         self.work_limit = None
+        self.work_bound = None
+        self.cycles = 0  # chains that met a cohesion again (see chain)
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -132,6 +136,8 @@ class Starts:
         lps = self.problem.lps
         saved = {name: None if lp.cold else lp.h.getBasis() for name, lp in lps.items()}
         for rhos in RHO_CONTS:
+            if self._spent():
+                break
             self.continuation(x_assoc, rhos)
         self.from_zero()
         for name, lp in lps.items():
@@ -145,21 +151,41 @@ class Starts:
         low rho lets alpha fall far before the gap is squeezed out, into other collapse
         states than the main ladder's (the penalty method's continuation). Where it stalls
         below the best certified alpha, rho goes on up (RHO_HIGH) and the rows the statics
-        nearly holds are certified. Returns the least certified state of the start (or None)."""
+        nearly holds are certified. It ends early, between two LP solves, once the work
+        bounds are spent. Returns the least certified state of the start (or None; what it
+        certified before an early end is in the record)."""
         t = time.perf_counter()
         try:
-            best, x = self.alternate(x_assoc, rhos=rhos, source="continuation")
-            if self._stalled_below_best(x, self.record.best):
-                st, x = self.alternate(x, rhos=RHO_HIGH, source="continuation")
-                best = _least(best, st)
+            with self.problem.until(self._bounded()):
+                best, x = self.alternate(x_assoc, rhos=rhos, source="continuation")
                 if self._stalled_below_best(x, self.record.best):
-                    best = _least(best, self.certify_near(x, "continuation-near"))
+                    st, x = self.alternate(x, rhos=RHO_HIGH, source="continuation")
+                    best = _least(best, st)
+                    if self._stalled_below_best(x, self.record.best):
+                        best = _least(best, self.certify_near(x, "continuation-near"))
             return best
+        except Stopped:
+            if self.problem.deadline.expired():  # the time limit or a stop: the search's to handle
+                raise
+            return None
         finally:
             self.record.phase("continuation", t)
 
+    def _bounded(self) -> Deadline:
+        """The search's deadline, which also expires once the work bounds are spent. The work
+        grows only when a solve ends, so it expires between two solves: no LP is cut inside
+        HiGHS (the LPs stay usable), the next one raises Stopped before it starts."""
+        real = self.problem.deadline
+        return Deadline(real.at, lambda: real.expired() or self._spent())
+
+    def work(self) -> int:
+        """The LP work of the search so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
+        return sum(lp.work for lp in self.problem.lps.values())
+
     def _spent(self):
-        return self.work_limit is not None and self.problem.n_lps() >= self.work_limit
+        """The driver's work bounds (LP solves, LP work) are reached."""
+        return ((self.work_limit is not None and self.problem.n_lps() >= self.work_limit)
+                or (self.work_bound is not None and self.work() >= self.work_bound))
 
     def from_zero(self):
         """The seed's fixed-point chain from zero cohesion (:mod:`.fallback`), once: the
@@ -173,7 +199,12 @@ class Starts:
         if self._from_zero is None:
             t = time.perf_counter()
             try:
-                self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
+                with self.problem.until(self._bounded()):
+                    self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
+            except Stopped:
+                if self.problem.deadline.expired():
+                    raise
+                self._from_zero = (None,)  # its states so far are in the record
             finally:
                 self.record.phase("zero cohesion", t)
         return self._from_zero[0]
@@ -212,9 +243,12 @@ class Starts:
     def chain(self, c, steps, source="chain", patience=None, until=None):
         """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism.
         ``patience``: once it certified, stop after that many steps without improvement;
-        ``until()``: True stops it."""
+        ``until()``: True stops it. It also stops at a fixed point, and where the cohesions
+        repeat those of an earlier step (a cycle: the warm LPs would go round it again;
+        counted in ``cycles``)."""
         p = self.problem
         best, since = None, 0
+        seen = []  # the cohesions of the steps so far
         for _ in range(steps):
             if until is not None and until():
                 break
@@ -233,6 +267,10 @@ class Starts:
             c_new = -p.mu * p.cohesive_N(xc)
             if np.allclose(c_new, c, rtol=CHAIN_RTOL, atol=CHAIN_ATOL):
                 break
+            if any(np.allclose(c_new, old, rtol=CHAIN_RTOL, atol=CHAIN_ATOL) for old in seen):
+                self.cycles += 1
+                break
+            seen.append(c)
             c = c_new
         return best
 

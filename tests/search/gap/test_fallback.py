@@ -93,3 +93,25 @@ def test_the_chain_from_zero_cohesion_stops_at_the_work_limit():
     e.starts.work_limit = e.n_lps()
     lps = e.n_lps()
     assert e.starts.from_zero() is None and e.n_lps() == lps
+
+
+def test_a_chain_whose_cohesions_come_back_stops_at_the_cycle(monkeypatch):
+    """A chain that meets the cohesions of an earlier step again would go round the cycle
+    until its step limit; it stops at the first repeat instead. No structure measured
+    cycles (see :mod:`lamodel.search.gap.fallback`), so the cycle is forced here: the
+    cohesive statics' normal forces alternate between those of two statics."""
+    e = GapSearch(_wall33(0.9))
+    p = e.problem
+    _, _, x0 = e.starts.associative()
+    _, x_stall = e.alternation.alternate(x0)
+    forced = [p.N_of(x0), p.N_of(x_stall)]
+    calls = []
+
+    def alternating(xc):
+        calls.append(None)
+        return forced[len(calls) % 2]
+    monkeypatch.setattr(p, "cohesive_N", alternating)
+    n = p.coh.n_solves
+    e.starts.chain(np.zeros(p.nc), 40)
+    assert e.starts.cycles == 1
+    assert p.coh.n_solves - n == 3  # c0, then the two cohesions of the cycle, once each

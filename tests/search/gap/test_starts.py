@@ -43,3 +43,38 @@ def test_near_active_rows_certify_a_stalled_statics():
     st = e.starts.certify_near(x, "near")
     assert st is not None and st.alpha <= a_assoc + 1e-9
     assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7
+
+
+def test_a_continuation_ends_between_two_lps_at_the_work_bound():
+    """A continuation whose work bound is reached on the way ends after the LP that reached
+    it (no LP is cut inside HiGHS): the LPs stay usable, and what it certified before is
+    in the record."""
+    s = bond(6, width=8)
+    e = GapSearch(s)
+    _, _, x0 = e.starts.associative()
+    e.starts.first_certificate(x0)
+    free = GapSearch(s)
+    free.starts.associative()
+    free.starts.first_certificate(x0)
+    n = free.n_lps()
+    free.starts.continuation(x0)
+    assert free.n_lps() - n > 3
+    e.starts.work_limit = e.n_lps() + 3
+    e.starts.continuation(x0)
+    assert e.n_lps() == e.starts.work_limit
+    assert not any(lp.abandoned for lp in e.problem.lps.values())
+    assert e.problem.statics()[0] == "optimal"
+
+
+def test_the_continuations_stop_at_the_work_bound():
+    """With the LP work already at the driver's bound the continuation starts (and the chain
+    from zero cohesion) solve no LP; the work counted is that of the LPs solved."""
+    e = GapSearch(bond(6, width=8))
+    _, _, x0 = e.starts.associative()
+    e.starts.first_certificate(x0)
+    work = e.starts.work()
+    assert work > 0 and work == sum(lp.work for lp in e.problem.lps.values())
+    e.starts.work_bound = work
+    lps = e.n_lps()
+    e.starts.continuations(x0)
+    assert e.n_lps() == lps
