@@ -26,16 +26,18 @@ PROVEN_TOL = 1e-6
 #: in 500 LPs nor in 48,000 (benchmarks/lower_bound.py; measured under load). The
 #: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
 #: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
-#: on any machine; the arches and portals take at most 8) and the search's own seconds,
-#: at least FLOOR_SECONDS.
-LPS_PER_CONTACT, FLOOR_SECONDS = 16, 2.0
+#: on any machine; the arches and portals take at most 8) and SHARE of the search's own
+#: seconds, at least FLOOR_SECONDS: on a 1,020-block running-bond wall the root's 50 Nmin
+#: LPs (0.5 s each) proved 0 in 28 s after a 75 s search; the guard keeps the bound's cost
+#: a quarter of the search's at most, in the plane and in space.
+LPS_PER_CONTACT, FLOOR_SECONDS, SHARE = 16, 2.0, 0.25
 #: In space a block on three or more contact points can rest on any three of them, so at
 #: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
 #: most LPS_PER_POINT LPs per contact point and MAX_LPS_3D in all (counted: the same bound
-#: on any machine), with a quarter of the search's seconds, at least FLOOR_SECONDS_3D, as a
+#: on any machine), with SHARE of the search's seconds, at least FLOOR_SECONDS_3D, as a
 #: guard. A block 1 x 0.5 x 2 on four points is proven at its 0.5 in 117 LPs (0.09 s); a
 #: 10-block panel (88 points) is left at 0 after 128 (0.3 s, the search 0.4 s).
-LPS_PER_POINT, MAX_LPS_3D, SHARE_3D, FLOOR_SECONDS_3D = 32, 128, 0.25, 1.0
+LPS_PER_POINT, MAX_LPS_3D, FLOOR_SECONDS_3D = 32, 128, 1.0
 
 
 @dataclass
@@ -72,9 +74,10 @@ def default_budget(search_seconds: float, structure) -> dict:
     """The keyword arguments of :func:`lower_bound` for the default bound on ``structure``
     after a search that took ``search_seconds`` (see LPS_PER_CONTACT, LPS_PER_POINT)."""
     if getattr(structure, "dimension", 2) == 3:
-        return {"budget": max(FLOOR_SECONDS_3D, SHARE_3D * float(search_seconds)),
+        return {"budget": max(FLOOR_SECONDS_3D, SHARE * float(search_seconds)),
                 "max_lps": min(MAX_LPS_3D, LPS_PER_POINT * max(1, structure.n_points))}
-    return {"budget": max(FLOOR_SECONDS, float(search_seconds)), "max_nodes": 1, "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
+    return {"budget": max(FLOOR_SECONDS, SHARE * float(search_seconds)), "max_nodes": 1,
+            "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
 
 
 def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = 10.0,
