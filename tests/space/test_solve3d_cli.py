@@ -65,7 +65,7 @@ def test_cubes_solve_writes_the_3d_result_folder(tmp_path):
     assert list(contacts.columns[:3]) == ["interface", "block_a", "block_b"]
     assert {"ux", "uy", "uz", "rx", "ry", "rz"} <= set(pd.read_csv(r / "blocks.csv").columns)
     runs = pd.read_csv(r / "runs.csv")
-    assert list(runs["method"]) == ["gap", "successive", "lamodel"] and runs["path"].notna().all()
+    assert list(runs["method"]) == ["lamodel"] and runs["path"].notna().all()
     assert violations(r) == []
     assert "alpha = 0.500000" in out.stdout and "macro-block" in out.stdout and "Opening interfaces" in out.stdout
     assert "results written to" in out.stdout
@@ -96,7 +96,7 @@ def test_method_all_puts_the_methods_side_by_side(tmp_path):
     a = lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), lamodel.SolveOptions(), tmp_path / "r",
                         method="all", picture=False)
     methods = pd.read_csv(tmp_path / "r" / "methods.csv")
-    assert list(methods["method"]) == ["associative", "gap", "successive", "lamodel"]
+    assert list(methods["method"]) == ["associative", "successive", "lamodel"]
     assert methods.alpha_raw[0] >= a.alpha - 1e-9                           # the associative bound
     certified = methods[methods.certified]
     assert len(certified) >= 2 and a.alpha == pytest.approx(certified.alpha_certified.min(), abs=1e-12)
