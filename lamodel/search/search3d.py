@@ -42,6 +42,7 @@ class Result3D:
     message: str = ""
     first_alpha: float = np.nan
     first_time: float = np.nan
+    associative_time: float = np.nan
     seconds: float = 0.0
     history: list = field(default_factory=list)   # (seconds, alpha, source) of each improvement
     methods: dict = field(default_factory=dict)   # method -> {"raw", "certified", "own", "own_path", "seconds"}
@@ -92,7 +93,8 @@ def _searched(structure, opt, stop) -> Result3D:
     alpha = np.nan if best is None else best.alpha
     run = out.runs[0] if out.runs else None
     r = Result3D(_WORDS.get(out.status, out.status), best, out.alpha_associative, out.message,
-                 *out.first, seconds=out.wall_time_s, history=[h[:3] for h in out.history],
+                 *out.first, associative_time=out.phases.get("associative", np.nan), seconds=out.wall_time_s,
+                 history=[h[:3] for h in out.history],
                  n_cone=run.iterations if run is not None else 0)
     r.methods["lamodel"] = {"raw": alpha, "certified": alpha, "own": alpha, "own_path": path_of(best),
                             "seconds": run.seconds if run is not None else out.wall_time_s}
@@ -143,6 +145,7 @@ def _method(structure, method, deadline) -> Result3D:
     if rec.first is not None:
         out.first_alpha, out.first_time = rec.first
     out.history = [h[:3] for h in rec.history]
+    out.associative_time = rec.phases.get("associative", np.nan)
     out.seconds = time.perf_counter() - t0
     out.n_cone, out.n_lp = p.n_lps(), p.n_lp
     own = out.alpha
