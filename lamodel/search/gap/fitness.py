@@ -79,8 +79,7 @@ class Fitness:
         (scaled units), LP solves, what it learned: its additions to the caches and the
         bases it ended with)."""
         p = self.problem
-        for name, lp in p.lps.items():
-            lp.restart(snap["bases"][name])
+        p.restart(snap["bases"])
         self.certifier.cache, self.descent.cache = dict(snap["certified"]), dict(snap["descended"])
         self.record.forget()
         found = []

@@ -127,6 +127,11 @@ class ScaledProblem:
         """The LPs' current bases (portable: they pickle), by name."""
         return {name: lp.portable_basis() for name, lp in self.lps.items()}
 
+    def restart(self, bases):
+        """Every LP on a new HiGHS object, warm from ``bases`` (:meth:`bases`)."""
+        for name, lp in self.lps.items():
+            lp.restart(bases[name])
+
     def save_bases(self, names=None):
         """The LPs' current bases (None: cold), by name (``names``: those only)."""
         return {name: None if lp.cold else lp.h.getBasis() for name, lp in self.lps.items()

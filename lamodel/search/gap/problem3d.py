@@ -36,7 +36,7 @@ from ...structure3d import Structure3D
 from ..certify3d import CollapseState3D, mechanism_lp, passes, polish_mechanism, project_mechanism, residuals, statics_lp
 from ..cone import ConePrograms
 from ..options import Deadline
-from ..tuning import CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE
+from ..tuning import CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE
 
 #: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
 #: polishes to that optimum).
@@ -67,7 +67,7 @@ class ConeProblem:
         self.lps_elsewhere = 0
         self.n_lp = 0                # HiGHS LPs of the certificates
         self._mechanisms = {}        # id(u) -> (u, c): the cohesions u is least-alpha_K for
-        self._held = {}              # (opening, sliding, directions) -> held statics candidates
+        self._solved = {}            # (c, allowed) -> the cohesive program's answer, the last few
 
     # ------------------------------------------------------------------ bookkeeping
     def elapsed(self):
@@ -89,6 +89,10 @@ class ConeProblem:
     def bases(self):
         return {}
 
+    def restart(self, bases):
+        """Forget the programs solved (a pure evaluation depends on its snapshot alone)."""
+        self._solved = {}
+
     def save_bases(self, names=None):
         return {}
 
@@ -101,8 +105,11 @@ class ConeProblem:
         left = self.deadline.left()
         return None if math.isinf(left) else max(left, 1e-3)
 
-    def _ran(self, res):
+    def _ran(self, res, name):
         """A program's result; Stopped if the deadline fired during it."""
+        if self.verbose > 1:
+            print(f"{self.elapsed():8.2f} {name}: {res.status} alpha {res.alpha:.7f} ({res.seconds:.2f} s, "
+                  f"{res.iterations} iterations)", flush=True)
         if not res.ok and res.status not in ("infeasible", "unbounded"):
             self.deadline.check()
         return res
@@ -113,7 +120,7 @@ class ConeProblem:
         equality (sliding ones along the slips of ``u``). ``cap``: none in space.
         Returns (status, x)."""
         if maximize:
-            res = self._ran(self.cone.associative(time_limit=self._left()))
+            res = self._ran(self.cone.associative(time_limit=self._left()), "associative")
         else:
             opening = sliding = dirs = None
             if held is not None and held.any():
@@ -121,7 +128,7 @@ class ConeProblem:
                 sliding = sliding & ~opening
                 dirs = self._directions(u)
             res = self._ran(self.cone.statics(cost_lam, opening=opening, sliding=sliding, slide_dir=dirs,
-                                              time_limit=self._left()))
+                                              time_limit=self._left()), "statics")
         return res.status, (res.x if res.ok else None)
 
     def _split(self, rows):
@@ -147,7 +154,9 @@ class ConeProblem:
         return np.concatenate([-x[:self.np], self.form.cone_slack(x[:3 * self.np])])
 
     def active_rows(self, x, tol):
-        return self.slack(x) <= tol * max(1.0, np.abs(x).max())
+        """Rows whose slack is at most ``tol`` (CONE_ACTIVE at least: an interior-point
+        statics holds its rows to its tolerance only) times the largest entry (or 1)."""
+        return self.slack(x) <= max(tol, CONE_ACTIVE) * max(1.0, np.abs(x).max())
 
     def gap_weights(self, xi, u=None):
         """w (3 np) with ``w^T x = alpha_K - alpha`` for the mechanism u, at the points xi
@@ -180,7 +189,14 @@ class ConeProblem:
         may_open = may_slip = None
         if allowed is not None:
             may_open, may_slip = self._split(allowed)
-        res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left()))
+        # the same program again (a descent's two tolerances, the chain's first step after
+        # a mechanism step): its answer, not another interior-point solve of seconds
+        key = c.tobytes() + (b"" if allowed is None else np.asarray(allowed, bool).tobytes())
+        res = self._solved.get(key)
+        if res is None:
+            res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left()),
+                            "cohesive" if allowed is None else "cohesive-r")
+            self._solved = {key: res} | dict(list(self._solved.items())[:_REMEMBERED - 1])
         if not res.ok:
             return res.status, np.nan, None, None, None
         if res.u is None:
@@ -261,16 +277,12 @@ class ConeProblem:
     def _held_statics(self, opening, sliding, sdir):
         """The least alpha with the points held, on fixed cones (HiGHS: exact) and on the
         cone (Clarabel; its forces orient the stuck points' pyramids in the LP); the order
-        by size (CONE_LP_FIRST_POINTS). Yields (tag, x); remembered by key."""
-        key = (opening.tobytes(), sliding.tobytes(), np.round(sdir[sliding], 9).tobytes())
-        if key in self._held:
-            yield from self._held[key]
-            return
+        by size (CONE_LP_FIRST_POINTS). Yields (tag, x). Not remembered here: the
+        certifier's cache, part of a GA snapshot, keeps evaluations pure functions of it."""
         n = self.np
         _, x_cone = self._held_cone(opening, sliding, sdir)
         ref = np.column_stack([x_cone[n:2 * n], x_cone[2 * n:3 * n]]) if x_cone is not None else None
         order = ("lp", "cone") if self.np <= CONE_LP_FIRST_POINTS else ("cone", "lp")
-        found = []
         for tag in order:
             if tag == "lp":
                 self.deadline.check()
@@ -279,12 +291,11 @@ class ConeProblem:
             else:
                 x = x_cone
             if x is not None:
-                found.append((tag, x))
                 yield tag, x
-        self._held[key] = found
 
     def _held_cone(self, opening, sliding, sdir):
-        res = self._ran(self.cone.statics(opening=opening, sliding=sliding, slide_dir=sdir, time_limit=self._left()))
+        res = self._ran(self.cone.statics(opening=opening, sliding=sliding, slide_dir=sdir, time_limit=self._left()),
+                        "held")
         return res.status, (res.x if res.ok else None)
 
     # -------------------------------------------------------------------- states

@@ -70,6 +70,10 @@ class GapProgram(Protocol):
     def bases(self) -> dict:
         """The warm bases by name, portable (they pickle)."""
 
+    def restart(self, bases: dict):
+        """Start afresh from ``bases`` (:meth:`bases`), nothing else remembered: a pure GA
+        evaluation depends on its snapshot alone."""
+
     def save_bases(self, names=None) -> dict:
         """The current bases of the LPs ``names`` (all: None), to :meth:`load_bases` later."""
 
