@@ -131,8 +131,9 @@ def _solve(s, method, options, stop):
     if method != "all":
         return done[method], table, None, method
     certified = {k: r for k, r in done.items() if r.state is not None}
-    keep = min(certified, key=lambda k: certified[k].alpha) if certified else list(done)[-1]
-    return done[keep], table, methods_frame3d(table, iterations), keep
+    # the least certified alpha; on a tie the search's state (its path says how it was found)
+    keep = min(certified, key=lambda k: (certified[k].alpha, k != "lamodel")) if certified else list(done)[-1]
+    return done[keep], table, methods_frame3d(table, iterations), next(iter(done[keep].methods), keep)
 
 
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,
