@@ -31,6 +31,10 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
    its estimated time does not fit the budget. Every Ipopt point is certified again.
 
+The same steps solve a structure in space: :mod:`.gap` is written against a formulation
+interface (:class:`.gap.program.GapProgram`), implemented by the planar LPs and by the
+cone programs of :class:`.gap.problem3d.ConeProblem` (no Ipopt polish there).
+
 Nothing uncertified is ever reported as a multiplier. Ctrl-C and the time limit reach
 inside every LP (HiGHS's interrupt callback); the best certified state so far is kept.
 Every tuned constant is in :mod:`.tuning`.

@@ -55,6 +55,8 @@ class GapProgram(Protocol):
     lps_elsewhere: int
     #: least alpha over S at or below this counts as zero (the dead load stands alone)
     stable_alpha: float
+    #: whether the driver polishes the search's states with Ipopt on eq. (5)
+    polish: bool
 
     # ------------------------------------------------------------- bookkeeping
     def elapsed(self) -> float:
