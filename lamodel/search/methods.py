@@ -379,7 +379,6 @@ def successive_cone(engine, x, source="successive"):
     (:class:`lamodel.search.gap.GapSearch`): each step the cohesive program for
     capacities ``c = -mu N``, its mechanism certified by the engine's certifier (held
     statics, residual test). Returns (least certified state or None, last raw alpha)."""
-    from .gap.starts import _least
     from .tuning import SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS
     p = engine.problem
     best, raw, prev = None, np.nan, np.inf
@@ -389,7 +388,9 @@ def successive_cone(engine, x, source="successive"):
         if status != "optimal":
             break
         raw = raw_k
-        best = _least(best, engine.certifier.certify(u, xi, source))
+        st = engine.certifier.certify(u, xi, source)
+        if st is not None and (best is None or st.alpha < best.alpha):
+            best = st
         c_new = -p.mu * p.cohesive_N(xc)
         # converged: the capacities reproduce themselves, or alpha no longer moves
         if np.abs(c_new - c).max() <= 1e-7 * max(np.abs(c).max(), 1e-300) or \

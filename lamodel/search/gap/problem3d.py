@@ -71,6 +71,7 @@ class ConeProblem:
 
     # ------------------------------------------------------------------ bookkeeping
     def elapsed(self):
+        """Seconds since the programs were built."""
         return time.perf_counter() - self.t0
 
     def n_lps(self):
@@ -87,6 +88,7 @@ class ConeProblem:
             self.deadline = before
 
     def bases(self):
+        """No warm bases in space (interior-point programs start cold)."""
         return {}
 
     def restart(self, bases):
@@ -94,10 +96,11 @@ class ConeProblem:
         self._solved = {}
 
     def save_bases(self, names=None):
+        """Nothing to save (see :meth:`bases`)."""
         return {}
 
     def load_bases(self, saved, restart_cold=True):
-        pass
+        """Nothing to load (see :meth:`bases`)."""
 
     def _left(self):
         """Seconds left for a program (None: no limit); Stopped once the deadline passed."""
@@ -144,9 +147,11 @@ class ConeProblem:
         return np.column_stack([np.where(slip > 0, q[n:2 * n] / safe, 1.0), q[2 * n:] / safe])
 
     def N_of(self, x):
+        """Normal forces (one a contact point) of a statics."""
         return x[:self.np]
 
     def cohesive_N(self, xc):
+        """Normal forces of the cohesive program's statics."""
         return xc[:self.np]
 
     def slack(self, x):
@@ -168,6 +173,7 @@ class ConeProblem:
         return self.form.gap_weights(np.where(moving, q, 0.0))
 
     def gap(self, x, xi, u=None):
+        """alpha_K - alpha of the statics x for the mechanism (u, xi) (eq. 5)."""
         return float(self.gap_weights(xi, u) @ x[:3 * self.np])
 
     # -------------------------------------------------------------------- mechanism
@@ -210,6 +216,7 @@ class ConeProblem:
 
     # ---------------------------------------------------------------- certification
     def iteration_cap(self):
+        """None: Clarabel's programs take a few dozen iterations, uncapped."""
         return None
 
     def pattern(self, u, flow):
