@@ -85,7 +85,7 @@ class Analysis3D:
         return "\n".join(out + [self.line()])
 
 
-def refuse_planar_options(method, seed_ga, options, moving, report, animate):
+def refuse_planar_options(method, options, moving, report, animate):
     """InputError (one line) for what a 3D solve cannot honour."""
     if method not in METHODS3D and method != "all":
         raise InputError(f"--method {method}: a planar method; expected for a 3D structure one of lamodel, "
@@ -148,7 +148,7 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
     from .results3d import summary_row, write_results3d
     from .words3d import describe3d
 
-    refuse_planar_options(method, seed_ga, options, moving, report, animate)
+    refuse_planar_options(method, options, moving, report, animate)
     if options.scheduler:
         from ..search.executor import check_scheduler
         check_scheduler(options.scheduler)  # fail at once, not after the first certificate

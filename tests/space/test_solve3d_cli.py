@@ -228,3 +228,16 @@ def test_the_words_name_a_sliding_block_and_a_turning_one(tmp_path):
                            picture=False)
     assert "(1 block: B) turns about the axis -x through (0, 0.25, 0)" in tall.text()   # about its toe
     assert "Opening interfaces (1): ground|B" in tall.text()
+
+
+def test_the_ga_options_reach_the_search_in_space(tmp_path):
+    # --pop-size, --generations and --workers drive the same GA as in the plane
+    import lamodel
+    options = lamodel.SolveOptions(pop_size=4, generations=2, ga_workers=2)
+    a = lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), options, tmp_path / "r", picture=False)
+    assert a.certified and a.alpha == pytest.approx(0.5, abs=1e-9)
+    runs = pd.read_csv(tmp_path / "r" / "runs.csv")
+    assert list(runs["method"]) == ["lamodel"] and runs["path"][0] == "gap alternation"
+    with pytest.raises(lamodel.InputError, match="--starts"):
+        lamodel.analyse(write(tmp_path, "cubes2.json", stack_spec()), lamodel.SolveOptions(starts=2),
+                        tmp_path / "r2", picture=False)
