@@ -1,5 +1,6 @@
 """One analysis of a structure in space, as ``lamodel solve`` runs it for a 3D input:
-solve (:func:`lamodel.search.search3d.solve3d`), write, present.
+solve (:func:`lamodel.search.search3d.solve3d`: the search of
+:func:`lamodel.search.driver.solve` on the cone formulation), write, present.
 
 :func:`lamodel.analyse` hands a 3D structure (a 3D JSON, a COMPAS assembly, a mesh) to
 :func:`analyse3d`, which writes the result folder with the planar one's guarantees
@@ -10,8 +11,8 @@ picture (:mod:`.plot3d`), ``methods.csv`` for ``--method all``, and the browser 
 (:mod:`.view3d`) when asked. Ctrl-C, SIGTERM and SIGHUP end the search; its best certified
 state is written.
 
-Methods: ``lamodel`` (default: the gap alternation and the successive cone method, then
-exploring), ``associative`` (the associative cone program's mechanism certified),
+Methods: ``lamodel`` (default: the certified search, as in the plane: gap alternation,
+certification, descents, continuations, the GA with ``--workers``/``--scheduler``), ``associative`` (the associative cone program's mechanism certified),
 ``successive-lp`` (in space: successive cone programming), ``all`` (the three side by
 side, with lamodel's search; the folder holds the least certified state).
 """
@@ -84,21 +85,20 @@ class Analysis3D:
         return "\n".join(out + [self.line()])
 
 
-def refuse_planar_options(method, seed_ga, options, moving, report, animate):
+def refuse_planar_options(method, options, moving, report, animate):
     """InputError (one line) for what a 3D solve cannot honour."""
     if method not in METHODS3D and method != "all":
         raise InputError(f"--method {method}: a planar method; expected for a 3D structure one of lamodel, "
                          "associative, successive-lp, all")
     named = [("--rolling", moving[0]), ("--axles", moving[1]), ("--positions", moving[2]), ("--report", report),
-             ("--animate", animate), ("--starts", options.starts), ("--scheduler", options.scheduler),
-             ("--pop-size", (seed_ga or (None, None))[0]), ("--generations", (seed_ga or (None, None))[1])]
+             ("--animate", animate), ("--starts", options.starts)]
     from ..search.options import SolveOptions
     if options.solver != SolveOptions.solver:
         named.append(("--solver", options.solver))
     given = [flag for flag, value in named if value is not None]
     if given:
-        raise InputError(f"{given[0]}: applies to planar structures only (rolling loads, Ipopt starts, the GA, "
-                         "the HTML report); expected a 3D solve without it")
+        raise InputError(f"{given[0]}: applies to planar structures only (rolling loads, Ipopt starts, the HTML "
+                         "report); expected a 3D solve without it")
 
 
 def refuse_spatial_options(inputs, view):
@@ -113,45 +113,27 @@ def refuse_spatial_options(inputs, view):
 
 
 def _solve(s, method, options, stop):
-    """(Result3D kept in the folder, runs table, methods table or None, the method kept)."""
-    from tqdm import tqdm
-    # one line on stderr, on a terminal only (as in the plane): the best certified alpha so far
-    bar = tqdm(desc="3D search", disable=None if options.progress else True, leave=False,
-               bar_format="{desc} [{elapsed}{postfix}]")
-
-    def on_best(alpha, path):
-        bar.set_postfix_str(f"best certified alpha {alpha:.6f}", refresh=True)
-    kw = dict(time_limit=options.time_limit, seed=int(options.seed), threads=options.workers or 1, stop=stop,
-              on_best=on_best)
-    try:
-        return _run_methods(s, method, kw)
-    finally:
-        bar.close()
-
-
-def _run_methods(s, method, kw):
-    """The solves of ``method`` (solve3d's keywords ``kw``); what :func:`_solve` returns."""
+    """(Result3D kept in the folder, runs table, methods table or None, the method kept).
+    The search shows its own progress line (``options.progress``)."""
     from ..search.search3d import solve3d
     from .results3d import methods_frame3d, runs_frame
     runs, done, iterations = [], {}, {}
-    for m in (["associative", "lamodel"] if method == "all" else [method]):
+    for m in (["associative", "successive-lp", "lamodel"] if method == "all" else [method]):
         which, explore = METHODS3D[m]
-        done[m] = r = solve3d(s, method=which, explore=explore, **kw)
-        work = r.n_cone + r.n_lp
-        for k, v in r.methods.items():   # each method's own answer, certified
+        done[m] = r = solve3d(s, method=which, explore=explore, time_limit=options.time_limit,
+                              seed=int(options.seed), stop=stop, options=options if m == "lamodel" else None)
+        for k, v in r.methods.items():   # each method's own answer, certified (the search's: its path)
             runs.append((k, v))
-            iterations[k] = work
-        if m == "lamodel":   # the search's answer (after exploring) is a certified one
-            runs.append((m, {"raw": r.alpha, "own": r.alpha, "own_path": r.path, "seconds": r.seconds}))
-            iterations[m] = work
+            iterations[k] = r.n_cone
         if r.status == "interrupted":
             break
     table = runs_frame(runs)
     if method != "all":
         return done[method], table, None, method
     certified = {k: r for k, r in done.items() if r.state is not None}
-    keep = min(certified, key=lambda k: certified[k].alpha) if certified else list(done)[-1]
-    return done[keep], table, methods_frame3d(table, iterations), keep
+    # the least certified alpha; on a tie the search's state (its path says how it was found)
+    keep = min(certified, key=lambda k: (certified[k].alpha, k != "lamodel")) if certified else list(done)[-1]
+    return done[keep], table, methods_frame3d(table, iterations), next(iter(done[keep].methods), keep)
 
 
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,
@@ -169,7 +151,10 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
     import pandas as pd
     from .words3d import describe3d
 
-    refuse_planar_options(method, seed_ga, options, moving, report, animate)
+    refuse_planar_options(method, options, moving, report, animate)
+    if options.scheduler:
+        from ..search.executor import check_scheduler
+        check_scheduler(options.scheduler)  # fail at once, not after the first certificate
     out = Path(out) if out else Path("results") / safe_folder_name(structure.name)
     extras = {"picture": picture_place(None if picture is True else picture, out) if picture else None,
               "view": view}

@@ -37,7 +37,7 @@ NOTES = {
     "associative": "the associative cone program (an upper bound); its mechanism certified",
     "gap": "the gap alternation from the associative statics (rho 1e3, 1e4)",
     "successive": "successive cone programming (capacities from the previous normal forces, relaxed)",
-    "lamodel": "the certified search: both methods, continuations, descents, perturbations",
+    "lamodel": "the certified search (as in the plane): gap alternation, descents, continuations, the GA",
 }
 
 

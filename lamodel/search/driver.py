@@ -33,6 +33,10 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
    its estimated time does not fit the budget. Every Ipopt point is certified again.
 
+The same steps solve a structure in space: :mod:`.gap` is written against a formulation
+interface (:class:`.gap.program.GapProgram`), implemented by the planar LPs and by the
+cone programs of :class:`.gap.problem3d.ConeProblem` (no Ipopt polish there).
+
 Nothing uncertified is ever reported as a multiplier. Ctrl-C and the time limit reach
 inside every LP (HiGHS's interrupt callback); the best certified state so far is kept.
 Every tuned constant is in :mod:`.tuning`.
@@ -49,6 +53,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..structure import Structure
+from ..structure3d import Structure3D
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .ipopt import start_pool
 from .generations import Generations
@@ -70,8 +75,8 @@ def ipopt_seconds(n_blocks: int) -> float:
 class Outcome:
     """What the driver found; :mod:`lamodel.output.report` turns it into tables."""
 
-    structure: Structure
-    best: CollapseState | None
+    structure: Structure | Structure3D
+    best: CollapseState | None                      # (a CollapseState3D in space)
     alpha_associative: float
     runs: list
     status: str                # one of lamodel.search.state.STATUSES (all but failed)
@@ -113,14 +118,15 @@ class _Progress:
         self.bar.close()
 
 
-def solve(structure: Structure, options: SolveOptions | None = None, stop=None) -> Outcome:
-    """Find the least certified collapse multiplier of the structure (see module doc).
+def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None) -> Outcome:
+    """Find the least certified collapse multiplier of the structure (see module doc), planar
+    or in space: the same steps on the formulation of :func:`.gap.formulation_of` (in
+    space: cone programs, no Ipopt polish).
 
     ``stop``: a callable returning True to stop early (e.g. ``event.is_set`` of an event set
     by another thread), as Ctrl-C does: the best certified state so far is reported, with
     the status ``interrupted``.
     """
-    from ..formulation.scaling import scaled as scaled_structure, scales
     from .gap import GapSearch
 
     opt = options or SolveOptions()
@@ -134,8 +140,7 @@ def solve(structure: Structure, options: SolveOptions | None = None, stop=None) 
     plan = _polish_plan(structure, opt)
     # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
     # threads here, and build their models while the LPs run.
-    scaled = scaled_structure(structure, *scales(structure))
-    pool = start_pool(scaled, opt, plan["n"]) if plan["run"] else None
+    pool = start_pool(_scaled(structure), opt, plan["n"]) if plan["run"] else None
     # the search leaves the polish its share of a time limit
     search_deadline = deadline
     if plan["run"] and opt.time_limit is not None:
@@ -357,12 +362,21 @@ def _better(a, b):
 
 
 # --------------------------------------------------------------------- Ipopt polish
+def _scaled(structure):
+    from ..formulation.scaling import scaled, scales
+    return scaled(structure, *scales(structure))
+
+
 def _polish_plan(structure, opt) -> dict:
     """How many Ipopt starts, and may they run: ``--starts K`` asks for K whatever they
     cost (within a time limit); without it, up to DEFAULT_STARTS when one is estimated
-    at most POLISH_SECONDS (or half the time limit)."""
+    at most POLISH_SECONDS (or half the time limit). None where the formulation has no
+    Ipopt polish (in space)."""
+    from .gap import formulation_of
     explicit = opt.starts is not None
     n = opt.starts if explicit else DEFAULT_STARTS
+    if not formulation_of(structure).polish:
+        n = 0
     est = ipopt_seconds(structure.n_blocks)
     workers = max(1, min(opt.workers or _cores(), n or 1))
     plan = dict(n=n, estimate=est, explicit=explicit, reserve=est * math.ceil(n / workers), why="")

@@ -17,6 +17,11 @@ run on the same model and put through the same certification.
   relaxation) and its fitness is the multiplier Ipopt returns.
 * ``lamodel`` — the certified search (:func:`lamodel.search.driver.solve`).
 
+In space (:func:`lamodel.search.search3d.solve3d`) the same search runs on the cone
+formulation; beside it the associative cone program and :func:`successive_cone`
+(successive cone programming: Portioli et al.; Wang & Beyer's public code), each raw
+answer certified by the search's certifier.
+
 Solver libraries load inside the methods (``lamodel --help`` lists :data:`CHOICES` at once).
 
 Every method returns a *raw* answer (its own forces, multiplier and mechanism), reported as
@@ -365,6 +370,35 @@ def lamodel_search(structure, options, lps, t0):
     b = outcome.best
     run = next((i for i, r in enumerate(outcome.runs) if r.alpha_certified == b.alpha), 0)
     return _finish(result, lps, (b.N, b.V, b.M, b.alpha, b.u, b.xi), t0, "certified search", run)
+
+
+def successive_cone(engine, x, source="successive"):
+    """Successive cone programming (Portioli et al.; Wang & Beyer's public code: a fixed
+    friction capacity from the previous normal forces, relaxed, at most
+    SUCCESSIVE_CONE_STEPS programs) from the statics x, on a search ``engine``
+    (:class:`lamodel.search.gap.GapSearch`): each step the cohesive program for
+    capacities ``c = -mu N``, its mechanism certified by the engine's certifier (held
+    statics, residual test). Returns (least certified state or None, last raw alpha)."""
+    from .tuning import SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS
+    p = engine.problem
+    best, raw, prev = None, np.nan, np.inf
+    c = -p.mu * p.N_of(x)
+    for _ in range(SUCCESSIVE_CONE_STEPS):
+        status, raw_k, xc, u, xi = p.mechanism(c)
+        if status != "optimal":
+            break
+        raw = raw_k
+        st = engine.certifier.certify(u, xi, source)
+        if st is not None and (best is None or st.alpha < best.alpha):
+            best = st
+        c_new = -p.mu * p.cohesive_N(xc)
+        # converged: the capacities reproduce themselves, or alpha no longer moves
+        if np.abs(c_new - c).max() <= 1e-7 * max(np.abs(c).max(), 1e-300) or \
+                abs(raw - prev) <= 1e-8 * max(1.0, abs(raw)):
+            break
+        prev = raw
+        c = (1 - SUCCESSIVE_CONE_RELAXATION) * c + SUCCESSIVE_CONE_RELAXATION * c_new
+    return best, raw
 
 
 # --------------------------------------------------------------------------- entry points

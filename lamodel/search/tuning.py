@@ -196,3 +196,29 @@ IPOPT_WARM_OPTIONS = {"warm_start_init_point": "yes", "warm_start_bound_push": 1
 #: (nb / 1020)^IPOPT_GROWTH each (measured with Debian's Ipopt 3.11 and sequential MUMPS:
 #: 12 ms at 55 blocks, 2.4 s at 1020).
 IPOPT_ITERATIONS, IPOPT_SECONDS_1020, IPOPT_GROWTH = 250, 2.4, 1.8
+
+# ================================================== in space (search/gap/problem3d.py)
+#: Least alpha over S at or below this (non-dimensional) counts as zero in space: an
+#: interior-point answer of 0 is exact only to its tolerance (1e-8 measured on the
+#: 816-block out-of-plane wall), where an LP vertex is exact (STABLE_ALPHA).
+STABLE_ALPHA_CONE = 1e-6
+#: Thresholds (fractions of the largest strain) above which a conic mechanism's point
+#: counts as opening or sliding, tried in turn by a certificate: an interior-point answer
+#: is exact to ~1e-8; the first is the flow pattern of a mechanism.
+CONE_FLOW_TOLS = (1e-6, 1e-4, 1e-3, 1e-2)
+#: Up to this many contact points the exact LP on fixed cones is tried first, then the held
+#: cone program's own statics; beyond, the other way round (the LP's cold solve grows
+#: fastest: 2-4 s at 2,900 points, measured under load).
+CONE_LP_FIRST_POINTS = 1500
+#: Sliding directions of a certificate's key are compared to this many decimals: conic
+#: slips differ by their tolerance (~1e-8) from solve to solve for one mechanism.
+CONE_DIRECTION_DECIMALS = 6
+#: Successive cone programming (Portioli et al.; Wang & Beyer): the friction capacities
+#: c = -mu N of the previous normal forces, relaxed by this, at most this many programs.
+SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS = 0.5, 10
+#: In space a row counts as held (``ConeProblem.active_rows``) within this fraction of the
+#: statics' largest entry whatever tighter tolerance is asked: an interior-point statics
+#: holds its active rows to ~1e-8 only. Measured (816-block out-of-plane wall): at 1e-9 the
+#: alternation saw 52 rows flowing "on slack" at gap 2e-8, its hold step took alpha from
+#: 0.017857 to 0 and the first certificate came after 16 programs (43 s) instead of 3.
+CONE_ACTIVE = 1e-6

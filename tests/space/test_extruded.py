@@ -39,13 +39,18 @@ def test_in_plane_load_gives_the_planar_first_certificate(name):
 
 
 @pytest.mark.parametrize("name, courses", [("wall33.dat", 6), ("wall55.dat", 10)])
-def test_out_of_plane_wall_overturns_as_a_whole(name, courses):
+def test_out_of_plane_wall_overturns_as_a_whole_or_lower(name, courses):
+    # the first certificate is the wall overturning as a whole (t / H); the search may then
+    # certify a lower state (the extruded wall33: 0.074062, one base block left behind while
+    # its neighbours slide past it on head joints that carry no compression)
     depth = 0.8
     s = extrude(read(INSTANCES / name), depth=depth)
     s.live = np.column_stack([np.zeros(s.n_blocks), -s.dead[:, 2], np.zeros(s.n_blocks)])
     r = solve3d(s)
     assert r.status == "certified"
-    assert r.alpha == pytest.approx(depth / (1.75 * courses), abs=1e-6)
+    assert max(r.state.residual.values()) <= RESIDUAL_TOLERANCE
+    assert r.first_alpha == pytest.approx(depth / (1.75 * courses), abs=1e-6)
+    assert r.alpha <= depth / (1.75 * courses) + 1e-9
 
 
 @pytest.mark.slow

@@ -65,7 +65,7 @@ def test_cubes_solve_writes_the_3d_result_folder(tmp_path):
     assert list(contacts.columns[:3]) == ["interface", "block_a", "block_b"]
     assert {"ux", "uy", "uz", "rx", "ry", "rz"} <= set(pd.read_csv(r / "blocks.csv").columns)
     runs = pd.read_csv(r / "runs.csv")
-    assert list(runs["method"]) == ["gap", "successive", "lamodel"] and runs["path"].notna().all()
+    assert list(runs["method"]) == ["lamodel"] and runs["path"].notna().all()
     assert violations(r) == []
     assert "alpha = 0.500000" in out.stdout and "macro-block" in out.stdout and "Opening interfaces" in out.stdout
     assert "results written to" in out.stdout
@@ -96,7 +96,7 @@ def test_method_all_puts_the_methods_side_by_side(tmp_path):
     a = lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), lamodel.SolveOptions(), tmp_path / "r",
                         method="all", picture=False)
     methods = pd.read_csv(tmp_path / "r" / "methods.csv")
-    assert list(methods["method"]) == ["associative", "gap", "successive", "lamodel"]
+    assert list(methods["method"]) == ["associative", "successive", "lamodel"]
     assert methods.alpha_raw[0] >= a.alpha - 1e-9                           # the associative bound
     certified = methods[methods.certified]
     assert len(certified) >= 2 and a.alpha == pytest.approx(certified.alpha_certified.min(), abs=1e-12)
@@ -228,3 +228,16 @@ def test_the_words_name_a_sliding_block_and_a_turning_one(tmp_path):
                            picture=False)
     assert "(1 block: B) turns about the axis -x through (0, 0.25, 0)" in tall.text()   # about its toe
     assert "Opening interfaces (1): ground|B" in tall.text()
+
+
+def test_the_ga_options_reach_the_search_in_space(tmp_path):
+    # --pop-size, --generations and --workers drive the same GA as in the plane
+    import lamodel
+    options = lamodel.SolveOptions(pop_size=4, generations=2, ga_workers=2)
+    a = lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), options, tmp_path / "r", picture=False)
+    assert a.certified and a.alpha == pytest.approx(0.5, abs=1e-9)
+    runs = pd.read_csv(tmp_path / "r" / "runs.csv")
+    assert list(runs["method"]) == ["lamodel"] and runs["path"][0] == "gap alternation"
+    with pytest.raises(lamodel.InputError, match="--starts"):
+        lamodel.analyse(write(tmp_path, "cubes2.json", stack_spec()), lamodel.SolveOptions(starts=2),
+                        tmp_path / "r2", picture=False)

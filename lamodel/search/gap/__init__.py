@@ -2,10 +2,14 @@
 
 Its pieces, in the order the algorithm runs them (each an object handed the ones before):
 
-1. :mod:`.problem` — the scaled LPs: statics in friction-cone generator form, the
-   fictitious cohesive LP whose duals are a mechanism, the way back to the user's units;
+1. the formulation (:mod:`.program`: the interface the steps below are written against):
+   :mod:`.problem` in the plane — the scaled LPs: statics in friction-cone generator
+   form, the fictitious cohesive LP whose duals are a mechanism, the way back to the
+   user's units; :mod:`.problem3d` in space — Clarabel's cone programs on the Coulomb cone
+   and exact certification LPs on fixed cones;
 2. :mod:`.record` — the best certified state so far, its history, the phase times;
-3. :mod:`.certify` — the two-LP certificate of a mechanism, and its cache;
+3. :mod:`.certify` — the certificate of a mechanism (the formulation's held statics,
+   then the residual test), and its cache;
 4. :mod:`.descent` — from a certified state to lower ones;
 5. :mod:`.alternation` — the gap alternation (gap, hold and near-flow steps);
 6. :mod:`.starts` — where alternations start: the associative statics, the rescue, the
@@ -19,16 +23,30 @@ them. Every constant they use is in :mod:`lamodel.search.tuning`.
 from __future__ import annotations
 
 from ...structure import Structure
+from ...structure3d import Structure3D
 from ..options import Deadline
 from .alternation import Alternation
 from .certify import Certifier
 from .descent import Descent
 from .fitness import Fitness
 from .problem import ScaledProblem
+from .problem3d import ConeProblem
+from .program import GapProgram
 from .record import Record
 from .starts import Starts
 
-__all__ = ["GapSearch"]
+__all__ = ["GapSearch", "GapProgram", "formulation_of"]
+
+#: The formulation of each kind of structure (each a :class:`GapProgram`).
+FORMULATIONS = {Structure: ScaledProblem, Structure3D: ConeProblem}
+
+
+def formulation_of(structure):
+    """The :class:`GapProgram` class that formulates ``structure`` (planar or in space)."""
+    for kind, program in FORMULATIONS.items():
+        if isinstance(structure, kind):
+            return program
+    raise TypeError(f"no formulation of a {type(structure).__name__}; expected a Structure or a Structure3D")
 
 
 class GapSearch:
@@ -40,9 +58,9 @@ class GapSearch:
     search is unusable (its LPs are abandoned).
     """
 
-    def __init__(self, structure: Structure, deadline: Deadline | None = None, on_certified=None,
+    def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None,
                  verbose: int = 0):
-        self.problem = ScaledProblem(structure, deadline, verbose)
+        self.problem = formulation_of(structure)(structure, deadline, verbose)
         self.record = Record(self.problem, on_certified)
         self.certifier = Certifier(self.problem, self.record)
         self.descent = Descent(self.problem, self.certifier, self.record)

@@ -24,14 +24,14 @@ from ..tuning import (ACTIVE_TOLERANCES, ALTERNATION_MAX_STEPS, FORBID_ACTIVE, G
                       IMPROVEMENT, NEAR_FLOW, RHO_MAIN, STALL)
 from .certify import Certifier
 from .descent import Descent
-from .problem import ScaledProblem
+from .program import GapProgram
 from .record import Record
 
 
 class Alternation:
     """Runs the gap alternation on a problem; states certified and descended."""
 
-    def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, record: Record):
+    def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, record: Record):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
 
     def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=ALTERNATION_MAX_STEPS, forbid_slack=False):
@@ -57,7 +57,7 @@ class Alternation:
                     status, a_as, _, u, xi = p.mechanism(-p.mu * N, allowed)
                     if status != "optimal":
                         break
-                    gap = float(p.gap_weights(xi) @ x[:p.nl])
+                    gap = p.gap(x, xi, u)
                     tight = p.active_rows(x, ACTIVE_TOLERANCES[0])
                     slack_flow = (xi > 0) & ~tight
                     self._near(u, xi, tight, slack_flow, source, found)
@@ -69,7 +69,7 @@ class Alternation:
                         # Hold at equality the rows it flows on that are already tight and
                         # minimise alpha: x stays feasible (warm), alpha falls, and the next
                         # mechanism often flows only on tight rows (gap exactly 0: certified).
-                        st_h, xh = p.statics(held=(xi > 0) & tight, cap=self.certifier.cap())
+                        st_h, xh = p.statics(held=(xi > 0) & tight, cap=self.certifier.cap(), u=u)
                         if p.verbose > 1:
                             print(f"{p.elapsed():8.2f}   hold: alpha {alpha:.7f} gap {gap:.2e} slack flows "
                                   f"{int(slack_flow.sum())} -> {st_h} {xh[-1] if xh is not None else ''}", flush=True)
@@ -86,7 +86,7 @@ class Alternation:
                             u, xi = u2, xi2
                             slack_flow = (xi > 0) & ~tight
                             self._near(u, xi, tight, slack_flow, source, found)
-                    step_gap = float(p.gap_weights(xi) @ x[:p.nl])
+                    step_gap = p.gap(x, xi, u)
                     if p.verbose > 1:
                         rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
                         print(f"{p.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
@@ -106,7 +106,7 @@ class Alternation:
                     if obj >= obj_prev - STALL * max(1.0, abs(obj_prev)):
                         break
                     obj_prev = obj
-                    status, xn = p.statics(cost_lam=rho * p.gap_weights(xi))
+                    status, xn = p.statics(cost_lam=rho * p.gap_weights(xi, u))
                     if status != "optimal":
                         break
                     x = xn

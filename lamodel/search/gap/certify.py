@@ -1,16 +1,16 @@
-"""The two-LP certificate of a mechanism, and its cache.
+"""The certificate of a mechanism, and its cache.
 
 With the rows a mechanism (u, xi) flows on held at equality, min alpha over S (eq. 1-4).
 Feasible means an exact collapse state (the seed's second theorem): statics admissible,
 mechanism compatible with ``fbar^T u = 1``, flow only on held rows, ``alpha = alpha_K``.
-Every state is then re-checked by :func:`lamodel.search.certify.residuals`.
+The formulation solves the held statics (:meth:`~.program.GapProgram.certificates`: two
+LPs in the plane, a held cone program and an exact LP on fixed cones in space); every
+candidate is then re-checked by the residual test (:meth:`~.program.GapProgram.state`).
 """
 from __future__ import annotations
 
-import numpy as np
-
-from ..tuning import CERTIFY_CAP_ROWS, LP_TOLERANCE, RESIDUAL_TOLERANCE
-from .problem import ScaledProblem
+from ..tuning import RESIDUAL_TOLERANCE
+from .program import CAPPED, GapProgram
 from .record import Record
 
 _CAPPED = object()  # a certification cut short by its iteration cap: not an answer to remember
@@ -19,7 +19,7 @@ _CAPPED = object()  # a certification cut short by its iteration cap: not an ans
 class Certifier:
     """Certifies mechanisms on a problem; every certified state goes to the record."""
 
-    def __init__(self, problem: ScaledProblem, record: Record):
+    def __init__(self, problem: GapProgram, record: Record):
         self.problem = problem
         self.record = record
         self.cache = {}   # flow pattern -> certified state (or None)
@@ -32,7 +32,7 @@ class Certifier:
         # The answer depends on the flow pattern alone (hold its rows, min alpha; any
         # mechanism with that pattern is then compatible with the statics): searches meet
         # the same patterns again and again (wall55: 169 certifications, 33 patterns).
-        key = flow.tobytes()
+        key = self.problem.pattern(u, flow)
         if key in self.cache:
             return self.cache[key]
         state = self.held(u, xi, flow, source)
@@ -42,38 +42,24 @@ class Certifier:
         return None
 
     def held(self, u, xi, flow, source):
-        """The certificate itself (uncached): None, a state, or _CAPPED."""
-        # Holding the rows by bounds makes the warm basis infeasible, and the primal phase 1
-        # took minutes at 2040 blocks. Instead: (1) min of the sum of the lambdas the held
-        # rows set to zero, from the current (feasible) basis; zero means the rows can be
-        # held; (2) then those lambdas are zero, so bounding them keeps the basis feasible,
-        # and min alpha is a warm primal solve. Each is capped (iterations, see cap): a
-        # certification that hard is not worth it now. Unit weights, not the gap's
-        # virtual-work weights w: a row flowing 1e-9 of the largest flow weighs its lambdas
-        # so little that w^T lambda ~ 1e-10 left them at 0.1 (1020 blocks), and the held LP
-        # then started infeasible (primal phase 1 gave up, HiGHS's dual simplex ran on
-        # singular bases for minutes).
-        p = self.problem
-        cap = self.cap()
-        zeroed = p.zeroed(flow)
-        status, x = p.statics(cost_lam=zeroed.astype(float), alpha_cost=0.0, cap=cap)
-        if status == "iteration limit":
-            return _CAPPED
-        if status != "optimal" or x[:p.nl][zeroed].max() > LP_TOLERANCE * max(1.0, np.abs(x).max()):
-            return None
-        status, x = p.statics(held=flow, cap=cap)
-        if status == "iteration limit":
-            return _CAPPED
-        if status != "optimal":
-            return None
-        x = p.stat.exact_x()  # equilibrium to round-off, not to HiGHS's tolerance
-        return self.accept(x, u, xi, flow, source)
+        """The certificate itself (uncached): None, a state, or _CAPPED. The formulation
+        gives the candidates (:meth:`~.program.GapProgram.certificates`: in the plane the
+        two LPs of :meth:`~.problem.ScaledProblem.certificates`); the first that passes
+        the residual check is the certificate."""
+        for cand in self.problem.certificates(u, xi, flow, self.cap()):
+            if cand is CAPPED:
+                return _CAPPED
+            x, u_c, xi_c, flow_c, tag = cand
+            state = self.accept(x, u_c, xi_c, flow_c, source + tag)
+            if state is not None:
+                return state
+        return None
 
     def cap(self):
-        """Iteration cap of a statics LP that may be hard (certification, hold step, the
-        first gap step of a perturbation): CERTIFY_CAP_ROWS simplex iterations a row of
-        the statics (3 nb rows)."""
-        return int(CERTIFY_CAP_ROWS * self.problem.stat.m)
+        """Iteration cap of a statics solve that may be hard (certification, hold step, the
+        first gap step of a perturbation): the formulation's
+        (:meth:`~.program.GapProgram.iteration_cap`)."""
+        return self.problem.iteration_cap()
 
     def accept(self, x, u, xi, flow, source):
         """The state of statics x and mechanism (u, xi) if it passes the residual check

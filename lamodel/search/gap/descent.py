@@ -11,22 +11,22 @@ import time
 
 import numpy as np
 
-from ..tuning import ACTIVE_TOLERANCES, DESCENT_MAX_STEPS, DESCENT_STEP, PRESSURE_GROUPS, PRESSURE_SINGLE, PUSH
+from ..tuning import ACTIVE_TOLERANCES, DESCENT_MAX_STEPS, DESCENT_STEP, PRESSURE_GROUPS, PRESSURE_SINGLE
 from .certify import Certifier
-from .problem import ScaledProblem
+from .program import GapProgram
 from .record import Record
 
 
 class Descent:
     """Descends certified states; a descent depends on the certified state alone (cached)."""
 
-    def __init__(self, problem: ScaledProblem, certifier: Certifier, record: Record):
+    def __init__(self, problem: GapProgram, certifier: Certifier, record: Record):
         self.problem, self.certifier, self.record = problem, certifier, record
         self.cache = {}   # flow pattern of a certified state -> its descent
 
     def descend(self, state, max_steps=DESCENT_MAX_STEPS):
         """From a certified state: restricted mechanisms, then pressure steps, while alpha falls."""
-        key = state.flow.tobytes()
+        key = self.problem.pattern(state.u, state.flow)
         if key in self.cache:
             return self.cache[key]
         start = state
@@ -39,7 +39,7 @@ class Descent:
                 if nxt is None or nxt.alpha >= state.alpha - DESCENT_STEP * max(1.0, state.alpha):
                     break
                 state = nxt
-            self.cache[key] = self.cache[start.flow.tobytes()] = state
+            self.cache[key] = self.cache[self.problem.pattern(start.u, start.flow)] = state
         finally:
             self.record.phase("descend", t)
         return state
@@ -69,16 +69,9 @@ class Descent:
         """Reduced costs of the held lambdas (min alpha with the flow rows held) say which
         held rows push alpha up; let the most pushing ones go (not allowed to flow)."""
         p = self.problem
-        status, x = p.statics(held=state.flow)
-        if status != "optimal":
+        row_push = p.pushing_rows(state)
+        if row_push is None:
             return None
-        _, z = p.stat.exact_duals()
-        zl = z[:p.nl]
-        push = np.where(p.zeroed(state.flow) & (zl < -PUSH), -zl, 0.0)
-        if not push.any():
-            return None
-        row_push = p.row_of_pair @ push  # per yield row: how much its lambdas push
-        row_push[~state.flow] = 0.0
         order = np.argsort(-row_push)
         order = order[row_push[order] > 0]
         allowed0 = p.active_rows(state.lam, ACTIVE_TOLERANCES[1])

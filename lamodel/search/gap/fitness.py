@@ -17,7 +17,7 @@ import numpy as np
 from ..highs import INF
 from .certify import Certifier
 from .descent import Descent
-from .problem import ScaledProblem
+from .program import GapProgram
 from .record import Record
 from .starts import Starts, _least
 
@@ -25,7 +25,7 @@ from .starts import Starts, _least
 class Fitness:
     """Evaluates genomes on a problem (warm, or pure from a snapshot)."""
 
-    def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, starts: Starts,
+    def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, starts: Starts,
                  record: Record):
         self.problem, self.certifier, self.descent, self.starts, self.record = (problem, certifier, descent, starts,
                                                                                record)
@@ -79,8 +79,7 @@ class Fitness:
         (scaled units), LP solves, what it learned: its additions to the caches and the
         bases it ended with)."""
         p = self.problem
-        for name, lp in p.lps.items():
-            lp.restart(snap["bases"][name])
+        p.restart(snap["bases"])
         self.certifier.cache, self.descent.cache = dict(snap["certified"]), dict(snap["descended"])
         self.record.forget()
         found = []

@@ -28,7 +28,8 @@ from ..certify import residuals
 from ..highs import INF, HighsLP
 from ..options import Deadline
 from ..state import CollapseState
-from ..tuning import FLOW_TOL
+from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LP_TOLERANCE, PUSH, STABLE_ALPHA
+from .program import CAPPED
 
 
 def state_residuals(form: Formulation, state: CollapseState) -> dict:
@@ -37,13 +38,19 @@ def state_residuals(form: Formulation, state: CollapseState) -> dict:
 
 
 class ScaledProblem:
-    """The LPs of one structure, scaled, built once and warm-started from solve to solve.
+    """The LPs of one planar structure, scaled, built once and warm-started from solve to
+    solve: the plane's :class:`~.program.GapProgram`.
 
     ``stat`` is the statics LP (columns lambda, alpha), ``coh`` the cohesive LP (columns
     n1, n2, V per contact, alpha) and ``coh_r`` a copy of it for mechanisms restricted to
     some rows. Every solve is given ``deadline`` (:meth:`until` gives another for a while);
     methods raise :class:`~lamodel.search.options.Stopped` when it fires.
     """
+
+    #: Ipopt polishes the search's states on eq. (5) (:mod:`lamodel.search.ipopt`)
+    polish = True
+    #: least alpha over S at or below this counts as zero (an exact LP vertex)
+    stable_alpha = STABLE_ALPHA
 
     def __init__(self, structure: Structure, deadline: Deadline | None = None, verbose: int = 0):
         self.t0 = time.perf_counter()
@@ -120,6 +127,26 @@ class ScaledProblem:
         """The LPs' current bases (portable: they pickle), by name."""
         return {name: lp.portable_basis() for name, lp in self.lps.items()}
 
+    def restart(self, bases):
+        """Every LP on a new HiGHS object, warm from ``bases`` (:meth:`bases`)."""
+        for name, lp in self.lps.items():
+            lp.restart(bases[name])
+
+    def save_bases(self, names=None):
+        """The LPs' current bases (None: cold), by name (``names``: those only)."""
+        return {name: None if lp.cold else lp.h.getBasis() for name, lp in self.lps.items()
+                if names is None or name in names}
+
+    def load_bases(self, saved, restart_cold=True):
+        """Back to bases of :meth:`save_bases` (a cold one restarts cold if ``restart_cold``)."""
+        for name, basis in saved.items():
+            lp = self.lps[name]
+            if basis is None:
+                if restart_cold:
+                    lp.restart(None)
+            elif not lp.abandoned:
+                lp.h.setBasis(basis)
+
     # ------------------------------------------------------------------- statics
     def forces(self, lam):
         return self.T @ lam[:self.nl]
@@ -127,9 +154,10 @@ class ScaledProblem:
     def N_of(self, lam):
         return (self.T @ lam[:self.nl])[:self.nc]
 
-    def statics(self, cost_lam=None, held=None, maximize=False, cap=None, alpha_cost=1.0):
+    def statics(self, cost_lam=None, held=None, maximize=False, cap=None, alpha_cost=1.0, u=None):
         """Optimise over S in generator form: min (max) alpha_cost alpha + cost_lam^T lambda
-        with the yield rows ``held`` (bool, 4 nc) at equality. Returns (status, x)."""
+        with the yield rows ``held`` (bool, 4 nc) at equality (``u`` is not needed: a held
+        row fixes its force). Returns (status, x)."""
         cost = np.zeros(self.nl + 1)
         cost[-1] = -alpha_cost if maximize else alpha_cost
         if cost_lam is not None:
@@ -159,9 +187,13 @@ class ScaledProblem:
         """Yield rows whose slack is at most ``tol`` times the statics' largest entry (or 1)."""
         return self.slack(lam) <= tol * max(1.0, np.abs(lam).max())
 
-    def gap_weights(self, xi):
+    def gap_weights(self, xi, u=None):
         """w with w^T lambda = alpha_K(N(lambda)) - alpha = slack^T xi (virtual work)."""
         return self.Slam.T @ xi
+
+    def gap(self, x, xi, u=None):
+        """alpha_K - alpha of the statics x for the mechanism's flows xi (eq. 5)."""
+        return float(self.gap_weights(xi) @ x[:self.nl])
 
     # ----------------------------------------------------------------- mechanism
     def mechanism(self, c, allowed=None):
@@ -205,6 +237,60 @@ class ScaledProblem:
         top = xi.max() if xi.size else 0.0
         xi[xi <= FLOW_TOL * top] = 0.0
         return status, float(x[-1]), x, u, xi
+
+    # ------------------------------------------------------------- certification
+    def iteration_cap(self):
+        """CERTIFY_CAP_ROWS simplex iterations a row of the statics (3 nb rows)."""
+        return int(CERTIFY_CAP_ROWS * self.stat.m)
+
+    def pattern(self, u, flow):
+        """A certificate depends on the flow pattern alone (its rows held, min alpha; any
+        mechanism with that pattern is then compatible with the statics)."""
+        return flow.tobytes()
+
+    def certificates(self, u, xi, flow, cap):
+        """The two LPs of a certificate (see :class:`~.certify.Certifier`), yielding the
+        held statics (exact to round-off), or CAPPED.
+
+        Holding the rows by bounds makes the warm basis infeasible, and the primal phase 1
+        took minutes at 2040 blocks. Instead: (1) min of the sum of the lambdas the held
+        rows set to zero, from the current (feasible) basis; zero means the rows can be
+        held; (2) then those lambdas are zero, so bounding them keeps the basis feasible,
+        and min alpha is a warm primal solve. Each is capped (iterations, ``cap``): a
+        certification that hard is not worth it now. Unit weights, not the gap's
+        virtual-work weights w: a row flowing 1e-9 of the largest flow weighs its lambdas
+        so little that w^T lambda ~ 1e-10 left them at 0.1 (1020 blocks), and the held LP
+        then started infeasible (primal phase 1 gave up, HiGHS's dual simplex ran on
+        singular bases for minutes)."""
+        zeroed = self.zeroed(flow)
+        status, x = self.statics(cost_lam=zeroed.astype(float), alpha_cost=0.0, cap=cap)
+        if status == "iteration limit":
+            yield CAPPED
+            return
+        if status != "optimal" or x[:self.nl][zeroed].max() > LP_TOLERANCE * max(1.0, np.abs(x).max()):
+            return
+        status, x = self.statics(held=flow, cap=cap)
+        if status == "iteration limit":
+            yield CAPPED
+            return
+        if status != "optimal":
+            return
+        yield self.stat.exact_x(), u, xi, flow, ""  # equilibrium to round-off, not to HiGHS's tolerance
+
+    def pushing_rows(self, state):
+        """Reduced costs of the held lambdas (min alpha with the state's flow rows held):
+        per yield row, how much its lambdas push alpha up (None: none pushes)."""
+        status, x = self.statics(held=state.flow)
+        if status != "optimal":
+            return None
+        _, z = self.stat.exact_duals()
+        zl = z[:self.nl]
+        push = np.where(self.zeroed(state.flow) & (zl < -PUSH), -zl, 0.0)
+        if not push.any():
+            return None
+        row_push = self.row_of_pair @ push  # per yield row: how much its lambdas push
+        row_push[~state.flow] = 0.0
+        return row_push
 
     def cohesive_N(self, xc):
         """Normal forces of a cohesive LP's statics (columns n1, n2, V per contact)."""

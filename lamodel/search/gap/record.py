@@ -6,7 +6,7 @@ import time
 
 from ..state import CollapseState
 from ..tuning import IMPROVEMENT, RESIDUAL_TOLERANCE
-from .problem import ScaledProblem
+from .program import GapProgram
 
 
 class Record:
@@ -17,7 +17,7 @@ class Record:
     residual check in the user's units too.
     """
 
-    def __init__(self, problem: ScaledProblem, on_certified=None):
+    def __init__(self, problem: GapProgram, on_certified=None):
         self.problem = problem
         self.on_certified = on_certified
         self.on_state = None

@@ -23,12 +23,12 @@ import numpy as np
 from ..highs import INF
 from ..options import Deadline, Stopped
 from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, DESCENT_STEP, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
-                      SEARCH_ACTIVE, STABLE_ALPHA)
+                      SEARCH_ACTIVE)
 from .alternation import Alternation
 from .certify import Certifier
 from .descent import Descent
 from .fallback import fallback
-from .problem import ScaledProblem
+from .program import GapProgram
 from .record import Record
 
 
@@ -40,7 +40,7 @@ def _least(best, st):
 class Starts:
     """The starts of the search on a problem; each returns its least certified state (or None)."""
 
-    def __init__(self, problem: ScaledProblem, certifier: Certifier, descent: Descent, alternation: Alternation,
+    def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, alternation: Alternation,
                  record: Record):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
@@ -82,17 +82,16 @@ class Starts:
         cheap after a certificate, where a cold start costs as much as the associative LP.
         """
         t = time.perf_counter()
-        stat = self.problem.stat
-        before = None if stat.cold else stat.h.getBasis()
+        p = self.problem
+        before = p.save_bases(("stat",))
         try:
-            status, x = self.problem.statics()
-            return status == "optimal" and x[-1] <= STABLE_ALPHA
+            status, x = p.statics()
+            return status == "optimal" and x[-1] <= p.stable_alpha
         finally:
-            if before is not None and not stat.abandoned:
-                # Back to the basis near the collapse states: from the alpha = 0 vertex
-                # every later certification LP of a 1020-block wall hit its iteration cap
-                # (6120 iterations, 4.4 s each) and the exploration certified nothing.
-                stat.h.setBasis(before)
+            # Back to the basis near the collapse states: from the alpha = 0 vertex
+            # every later certification LP of a 1020-block wall hit its iteration cap
+            # (6120 iterations, 4.4 s each) and the exploration certified nothing.
+            p.load_bases(before, restart_cold=False)
             self.record.phase("stability", t)
 
     # ------------------------------------------------------------ first certificate
@@ -133,18 +132,13 @@ class Starts:
         follows (the GA, serial or pure evaluations from a snapshot) starts where it would
         without them: measured, a 28-block wall's parallel GA certified nothing from the
         bases the continuation left."""
-        lps = self.problem.lps
-        saved = {name: None if lp.cold else lp.h.getBasis() for name, lp in lps.items()}
+        saved = self.problem.save_bases()
         for rhos in RHO_CONTS:
             if self._spent():
                 break
             self.continuation(x_assoc, rhos)
         self.from_zero()
-        for name, lp in lps.items():
-            if saved[name] is None:
-                lp.restart(None)
-            else:
-                lp.h.setBasis(saved[name])
+        self.problem.load_bases(saved)
 
     def continuation(self, x_assoc, rhos=RHO_CONTS[0]):
         """A start from the associative statics on the penalty ladder ``rhos``: a
@@ -285,7 +279,7 @@ class Starts:
             best = self.descent.descend(best)
         # capped: from a far perturbation the first gap step can take 10 s at 1020 blocks
         # (12,000 iterations), the time of many cheaper perturbations
-        status, x = p.statics(cost_lam=RHO_MAIN[0] * p.gap_weights(xi), cap=self.certifier.cap())
+        status, x = p.statics(cost_lam=RHO_MAIN[0] * p.gap_weights(xi, u), cap=self.certifier.cap())
         if status == "optimal":
             st, x = self.alternate(x, source=source)
             best = _least(best, st)
