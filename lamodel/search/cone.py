@@ -64,6 +64,7 @@ class ConePrograms:
         self.threads = threads
         self.n_solves = 0
         self.seconds = 0.0
+        self.work = 0.0  # interior-point iterations times rows^1.5 (the default run's work bound)
         n = self.np
         idx = np.arange(n)
         # SOC rows of point p: (cone radius, T1, T2); s = b - Gx, so T rows carry -1.
@@ -93,6 +94,7 @@ class ConePrograms:
         sol = solver.solve()
         self.n_solves += 1
         self.seconds += float(sol.solve_time)
+        self.work += int(sol.iterations) * G.shape[0] ** 1.5  # an iteration's factorisation fills in
         status = _STATUS.get(str(sol.status).split(".")[-1], str(sol.status).split(".")[-1])
         if status != "optimal":
             return ConeResult(status, iterations=int(sol.iterations), seconds=float(sol.solve_time))

@@ -62,7 +62,7 @@ from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
                      IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK,
-                     WORK_PER_BLOCK, Z_INIT, Z_MAX)
+                     Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
@@ -237,7 +237,7 @@ def _search(engine, opt, progress, client=None, work=None):
         lp_cap = None  # without a time limit: the LP solves the search may use in all
         if opt.time_limit is None:  # the continuations and the chain from zero cohesion stop there too
             starts.work_limit = lp_cap = TOTAL_WORK * lps_first
-            starts.work_bound = WORK_PER_BLOCK * engine.problem.nb
+            starts.work_bound = engine.problem.work_bound()
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
             starts.continuations(x0)

@@ -222,3 +222,16 @@ SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS = 0.5, 10
 #: alternation saw 52 rows flowing "on slack" at gap 2e-8, its hold step took alpha from
 #: 0.017857 to 0 and the first certificate came after 16 programs (43 s) instead of 3.
 CONE_ACTIVE = 1e-6
+#: In space, the same bound on the cone programs' work, counted as Clarabel's iterations
+#: times rows^1.5 (:attr:`lamodel.search.cone.ConePrograms.work`): with rows alone a unit
+#: cost 1.1e-6 CPU s at 33-111 blocks and 4.1e-6 at 816 (the factorisations fill in); with
+#: rows^1.5 it costs 1.7e-8 to 3.6e-8 from 33 to 816 blocks (the facade, the extruded
+#: wall33 and wall55, the 816-block out-of-plane wall). WORK_PER_BLOCK_CONE is about a
+#: minute per thousand blocks at 1.7e-8 s a unit, as in the plane; a cone program costs
+#: far more than an LP, so small structures get at least WORK_FLOOR_CONE (about 10 s):
+#: with no bound the extruded wall55 reaches its 0.557416 after 2.4e8 units (8.7 s) and
+#: the facade its 0.108696 after 4.8e8 (8.4 s); the 816-block wall's first certificate (its
+#: best, 0.017857) comes after 10 s and without the bound its run took 134 cone programs,
+#: 278 s of CPU (lamodel.search.driver.solve on instances/facade.json and the cases of
+#: benchmarks/solve3d.py).
+WORK_PER_BLOCK_CONE, WORK_FLOOR_CONE = 3.5e6, 6.0e8

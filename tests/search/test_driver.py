@@ -242,9 +242,9 @@ def test_without_a_time_limit_the_lp_work_is_bounded_by_the_size(monkeypatch):
     """Without a time limit the search also stops at WORK_PER_BLOCK LP work a block,
     continuations included, but never before its first certificate: with no work left
     after it, the search solves no LP past its first phase."""
-    from lamodel.search import driver
+    from lamodel.search.gap import problem
     s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
-    monkeypatch.setattr(driver, "WORK_PER_BLOCK", 0.0)
+    monkeypatch.setattr(problem, "WORK_PER_BLOCK", 0.0)
     o = solve(s, SolveOptions(starts=0))
     assert o.certified and o.best.alpha <= o.alpha_associative
     assert o.runs[0].iterations == o.lps_first

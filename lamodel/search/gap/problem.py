@@ -28,7 +28,7 @@ from ..certify import residuals
 from ..highs import INF, HighsLP
 from ..options import Deadline
 from ..state import CollapseState
-from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LP_TOLERANCE, PUSH, STABLE_ALPHA
+from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
 from .program import CAPPED
 
 
@@ -112,6 +112,14 @@ class ScaledProblem:
     def n_lps(self):
         """LP solves so far, those of evaluations merged from elsewhere included."""
         return sum(lp.n_solves for lp in self.lps.values()) + self.lps_elsewhere
+
+    def work(self):
+        """The LP work so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
+        return sum(lp.work for lp in self.lps.values())
+
+    def work_bound(self):
+        """WORK_PER_BLOCK a block (about a minute per thousand blocks)."""
+        return WORK_PER_BLOCK * self.nb
 
     @contextmanager
     def until(self, deadline: Deadline):

@@ -36,7 +36,8 @@ from ...structure3d import Structure3D
 from ..certify3d import CollapseState3D, mechanism_lp, passes, polish_mechanism, project_mechanism, residuals, statics_lp
 from ..cone import ConePrograms
 from ..options import Deadline
-from ..tuning import CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE
+from ..tuning import (CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE,
+                      WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE)
 
 #: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
 #: polishes to that optimum).
@@ -77,6 +78,14 @@ class ConeProblem:
     def n_lps(self):
         """Cone programs and certification LPs so far, merged evaluations included."""
         return self.cone.n_solves + self.n_lp + self.lps_elsewhere
+
+    def work(self):
+        """The cone programs' work so far (:attr:`lamodel.search.cone.ConePrograms.work`)."""
+        return self.cone.work
+
+    def work_bound(self):
+        """WORK_PER_BLOCK_CONE a block, at least WORK_FLOOR_CONE."""
+        return max(WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE * self.nb)
 
     @contextmanager
     def until(self, deadline: Deadline):

@@ -66,6 +66,14 @@ class GapProgram(Protocol):
         """Program solves so far (LPs, cone programs), merged evaluations included: the
         stopping rule's unit."""
 
+    def work(self) -> float:
+        """Solver work so far, counted (iterations weighted by the program's size): about
+        proportional to the time, the same on any machine."""
+
+    def work_bound(self) -> float:
+        """Without a time limit the search stops at this much :meth:`work` (the first
+        certificate is never cut)."""
+
     def until(self, deadline) -> AbstractContextManager:
         """Within the block every solve is given ``deadline``."""
 

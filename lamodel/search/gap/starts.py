@@ -174,7 +174,7 @@ class Starts:
 
     def work(self) -> int:
         """The LP work of the search so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
-        return sum(lp.work for lp in self.problem.lps.values())
+        return self.problem.work()
 
     def _spent(self):
         """The driver's work bounds (LP solves, LP work) are reached."""
