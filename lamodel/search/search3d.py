@@ -485,10 +485,13 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
         steps += [(m, lambda m=m: found[m] and eng.descend(found[m])) for m in methods]
         if "gap" in methods:  # the best cohesions perturbed, c exp(sigma z), sigma 0.1 / 0.3 / 1
             rng = np.random.default_rng(seed)
-            steps += [("gap", lambda k=k: eng.perturbed(-eng.mu * eng.best.N * np.exp(
+            steps += [("gap", lambda k=k: eng.best and eng.perturbed(-eng.mu * eng.best.N * np.exp(
                 PERTURB_SIGMAS[k % 3] * rng.standard_normal(eng.np)))) for k in range(PERTURB_STEPS)]
         for m, step in steps:
-            if eng.patience_over() or eng.best is None:
+            # the continuations run also when the methods certified nothing: a ladder from a
+            # low rho reaches collapse states where the main one stalls (a dome of 3 rings of
+            # 8 voussoirs: the main ladder stalls at gap 1e-3, the one from rho 2 certifies)
+            if eng.patience_over() or (eng.best is None and m != "gap"):
                 break
             t = time.perf_counter()
             found[m] = _least(found[m], step())
