@@ -30,8 +30,8 @@ import numpy as np
 
 from ..formulation.space import Formulation3D, scaled, scales
 from ..structure3d import Structure3D
-from .certify3d import (CollapseState3D, exact_state, passes, polish_mechanism, project_mechanism, residuals,
-                        statics_lp)
+from .certify3d import (CollapseState3D, align, exact_state, passes, polish_mechanism, project_mechanism,
+                        residuals, statics_lp)
 from .cone import ConePrograms
 
 #: rho ladder of the gap step (as the planar engine's main ladder).
@@ -207,6 +207,7 @@ class ConeSearch:
         U = np.abs(q).max()
         if not U > 0:
             return None
+        first = None   # the first flow pattern whose exact motion keeps it
         for tol in FLOW_TOLS:
             qn, slip = q[:n], np.hypot(q[n:2 * n], q[2 * n:])
             opening = qn > tol * U
@@ -221,6 +222,7 @@ class ConeSearch:
             slip_e = np.hypot(qe[n:2 * n], qe[2 * n:])
             if np.any(qe[:n][opening] <= 0) or np.any(slip_e[sliding] <= 0):
                 continue
+            first = first or (opening, sliding, exact)
             if c is not None:
                 polished = polish_mechanism(self.form, exact, ~(opening | sliding), sliding, c)
                 if polished is not None:
@@ -246,6 +248,17 @@ class ConeSearch:
                     self._certified[key] = st
                 if st is not None:
                     return st
+        if first is not None and x is not None and not self.expired():
+            # no statics holds the conic slip directions: turn them until a statics and a
+            # mechanism agree (certify3d.align), then the exact LP and the held program
+            opening, sliding, exact = first
+            got = align(self.form, opening, sliding, exact, self.N_of(x))
+            self.n_lp += 1
+            if got is not None:
+                sdir, moved = got
+                moved = project_mechanism(self.form, moved, ~(opening | sliding), sliding)
+                if moved is not None:
+                    return self._certify(opening, sliding, sdir, moved, source + "+align")
         return None
 
     def _certify(self, opening, sliding, sdir, u, source):
