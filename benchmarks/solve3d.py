@@ -70,7 +70,7 @@ def build(case: str, compas=None):
             raise SystemExit("case armadillo: give the folder holding armadillo.json with --compas DIR")
         from lamodel.io.assemblies import read_compas
         # the 33 blocks below z = 0.5 are the supports (those compas_cra's armadillo_cra.json
-        # flags); at the default tolerance 151 of its joints are missed and the vault is unstable
+        # flags); of the 1,014 joints compas_cra finds, 1,010 are found at 1e-4, 886 at the default 1e-6
         return read_compas(Path(compas) / "armadillo.json", supports_below=0.5, tolerance=1e-4), np.nan
     if name in ("wall33", "wall55"):
         courses = 6 if name == "wall33" else 10
