@@ -142,10 +142,15 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     ext = np.minimum(t["extent"][fa], t["extent"][fb])
     gap = tol + t["warp"][fa] + t["warp"][fb]   # warped faces (CAD) meet within their warp
     ok = 1 + np.einsum("ij,ij->i", na, nb) <= 0.5 * (2 * gap / np.maximum(ext, tol)) ** 2 + 1e-15
-    d = t["origin"][fb] - t["origin"][fa]   # origins are vertices on (or, warped, near) the planes
-    ok &= (np.abs(np.einsum("ij,ij->i", d, na)) <= gap) & (np.abs(np.einsum("ij,ij->i", d, nb)) <= gap)
     overlap = np.minimum(t["hi"][fa], t["hi"][fb]) - np.maximum(t["lo"][fa], t["lo"][fb])
     ok &= (overlap >= -tol).all(axis=1) & ((overlap > tol).sum(axis=1) >= 2)   # an area, not an edge
+    # the planes' separation where the facets overlap (the centre of the boxes' overlap;
+    # origins are vertices on, or warped, near the planes): measured at the origins, facets
+    # of warped faces tilted by 1-3 degrees (compas_cra's Armadillo: 19 of its 1,014 joints)
+    # were apart by the tilt times the origins' distance; coplanar facets are as before
+    p = (np.maximum(t["lo"][fa], t["lo"][fb]) + np.minimum(t["hi"][fa], t["hi"][fb])) / 2
+    sep = np.einsum("ij,ij->i", p - t["origin"][fa], na) + np.einsum("ij,ij->i", p - t["origin"][fb], nb)
+    ok &= np.abs(sep) <= gap
     fa, fb = fa[ok], fb[ok]
     if not len(fa):
         return []

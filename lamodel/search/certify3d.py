@@ -328,3 +328,96 @@ def exact_state(form: Formulation3D, x, u=None, source="") -> CollapseState3D | 
         if tries == 0 and u is None:
             break
     return None
+
+
+#: Facets of the pyramid inscribed in a stuck point's cone in :func:`align`, its steps, the
+#: largest turn (rad) of a sliding direction in one step, and the turn below which it stops.
+ALIGN_FACETS, ALIGN_STEPS, ALIGN_TURN, ALIGN_DONE = 16, 8, 1e-2, 1e-13
+
+
+def align(form: Formulation3D, opening, sliding, u, N0, steps=ALIGN_STEPS):
+    """Sliding directions on which a statics and a mechanism with the given points opening
+    and sliding agree, by Newton's method on the flow rule; None if a step is infeasible.
+
+    A conic program's mechanism slips off its exact directions by about the square root of
+    its tolerance (3e-5 rad on a dome whose gap alternation closed its gap to 3e-11), and
+    no statics holds directions that far off (the held programs are infeasible). Each step
+    turns every sliding direction d by an angle dt, the statics ``T = -mu N (d + dt d_perp)``
+    and the slip ``(d_perp . slip) = |slip| dt`` both linearised about the last step (N0,
+    |slip|), stuck points in a pyramid of ALIGN_FACETS facets inscribed in their cone and
+    still, opening points free of force and opening; one LP (HiGHS) a step, the least
+    total turn.
+    Returns (directions (np, 2), mechanism u) for :func:`statics_lp` and :func:`exact_state`
+    (which decide: nothing here is a certificate)."""
+    npt, nb = form.np, form.nb
+    mu = form.mu
+    opening = np.asarray(opening, bool)
+    sliding = np.asarray(sliding, bool) & ~opening
+    stuck = ~(opening | sliding)
+    At = form.A.T.tocsr()
+    Qn, Q1, Q2 = -At[:npt], -At[npt:2 * npt], -At[2 * npt:]
+    isl, ist, io = np.flatnonzero(sliding), np.flatnonzero(stuck), np.flatnonzero(opening)
+    ns, nu, nx = isl.size, 6 * nb, 3 * npt + 1
+    q = form.strains(u)
+    lam = np.hypot(q[npt + isl], q[2 * npt + isl])
+    if ns == 0 or np.any(lam <= 0):
+        return None
+    d = np.column_stack([q[npt + isl], q[2 * npt + isl]]) / lam[:, None]
+    N0 = np.asarray(N0, float)[isl]
+    K = ALIGN_FACETS
+    th = 2 * np.pi * np.arange(K) / K
+    D = sp.diags
+    E = sp.hstack([form.A, sp.csr_matrix(form.fbar.reshape(-1, 1))]).tocsr()
+    sel = lambda idx, off: sp.csr_matrix((np.ones(idx.size), (np.arange(idx.size), off + idx)),  # noqa: E731
+                                         shape=(idx.size, nx))
+    # stuck points: e_k . T <= -mu N cos(pi / K), k facets
+    pk, tk = np.repeat(ist, K), np.tile(th, ist.size)
+    r = np.arange(pk.size)
+    pyr = sp.csr_matrix((np.concatenate([np.cos(tk), np.sin(tk), mu[pk] * np.cos(np.pi / K)]),
+                         (np.concatenate([r, r, r]), np.concatenate([npt + pk, 2 * npt + pk, pk]))), shape=(pk.size, nx))
+    mech = sp.vstack([Qn[ist], Q1[ist], Q2[ist], Qn[isl], Qn[io], sp.csr_matrix(form.fbar.reshape(1, -1))])
+    m_lo = np.concatenate([np.zeros(3 * ist.size + ns + io.size), [1.0]])
+    m_hi = np.concatenate([np.zeros(3 * ist.size + ns), np.full(io.size, INF), [1.0]])
+    Z = lambda r_, c_: sp.csr_matrix((r_, c_))  # noqa: E731
+    for _ in range(steps):
+        perp = np.column_stack([-d[:, 1], d[:, 0]])
+        # T_k + mu N d_k + mu N0 dt perp_k = 0 (k = 1, 2)
+        slide = [sp.hstack([sel(isl, (1 + k) * npt) + sp.csr_matrix((mu[isl] * d[:, k], (np.arange(ns), isl)),
+                                                                     shape=(ns, nx)),
+                            Z(ns, nu), D(mu[isl] * N0 * perp[:, k])]) for k in (0, 1)]
+        # perp . slip - |slip| dt = 0; d . slip >= 0
+        across = D(perp[:, 0]) @ Q1[isl] + D(perp[:, 1]) @ Q2[isl]
+        along = D(d[:, 0]) @ Q1[isl] + D(d[:, 1]) @ Q2[isl]
+        # columns: statics (nx), motions (nu), turns dt (ns), their sizes a >= |dt| (ns)
+        I = sp.identity(ns, format="csr")
+        rows = sp.vstack([sp.hstack([E, Z(E.shape[0], nu + 2 * ns)]),
+                          sp.hstack([pyr, Z(pyr.shape[0], nu + 2 * ns)]),
+                          *[sp.hstack([r_, Z(ns, ns)]) for r_ in slide],
+                          sp.hstack([Z(mech.shape[0], nx), mech, Z(mech.shape[0], 2 * ns)]),
+                          sp.hstack([Z(ns, nx), across, D(-lam), Z(ns, ns)]),
+                          sp.hstack([Z(ns, nx), along, Z(ns, 2 * ns)]),
+                          sp.hstack([Z(ns, nx + nu), -I, I]), sp.hstack([Z(ns, nx + nu), I, I])]).tocsr()
+        lo = np.concatenate([-form.f0, np.full(pyr.shape[0], -INF), np.zeros(2 * ns), m_lo, np.zeros(4 * ns)])
+        hi = np.concatenate([-form.f0, np.zeros(pyr.shape[0]), np.zeros(2 * ns), m_hi, np.zeros(ns), np.full(3 * ns, INF)])
+        c_lo = np.concatenate([np.full(npt, -INF), np.full(2 * npt, -INF), [0.0], np.full(nu, -INF),
+                               np.full(ns, -ALIGN_TURN), np.zeros(ns)])
+        c_hi = np.concatenate([np.zeros(npt), np.full(2 * npt, INF), [INF], np.full(nu, INF), np.full(2 * ns, ALIGN_TURN)])
+        for idx in (io, npt + io, 2 * npt + io):   # opening points carry nothing
+            c_lo[idx] = c_hi[idx] = 0.0
+        cost = np.zeros(nx + nu + 2 * ns)
+        cost[nx + nu + ns:] = 1.0   # the least turn
+        lp = HighsLP(rows, lo, cost, c_lo, c_hi, name="align3d", b_hi=hi)
+        if lp.solve() != "optimal":
+            return None
+        sol = lp.x()
+        dt, u = sol[nx + nu:nx + nu + ns], sol[nx:nx + nu]
+        d = d + dt[:, None] * perp
+        d /= np.hypot(d[:, 0], d[:, 1])[:, None]
+        N0 = sol[isl]
+        q = form.strains(u)
+        lam = np.maximum(d[:, 0] * q[npt + isl] + d[:, 1] * q[2 * npt + isl], 0.0)
+        if np.abs(dt).max() <= ALIGN_DONE or np.any(lam <= 0):
+            break
+    out = np.zeros((npt, 2))
+    out[isl] = d
+    return out, u

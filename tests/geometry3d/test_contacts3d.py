@@ -174,3 +174,29 @@ def test_curved_generators_keep_their_contacts_when_turned(make):
     got, want = contact_set(turned), contact_set(base)
     assert [p for p, _ in got] == [p for p, _ in want]
     assert [x for _, x in got] == pytest.approx([x for _, x in want], rel=1e-5)
+
+
+def test_faces_tilted_within_the_tolerance_touch_wherever_their_origins_are():
+    # a block on a cube, its bottom tilted about the joint's diagonal: 1.6e-3 below and
+    # above the cube's top at two opposite corners, 0 at the centre; tolerance 2.45e-3 (1e-3
+    # of the size). Opposite corners are 3.2e-3 apart across the planes; where the faces
+    # overlap (the centre) they are 0 apart: they touch over the whole square
+    t = 0.8e-3
+
+    def z(x, y):
+        return 1.0 + t * ((2 * x - 1) + (2 * y - 1))
+
+    q = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    cube = [[x, y, 0.0] for x, y in q] + [[x, y, 1.0] for x, y in q]
+    cube_faces = [[3, 2, 1, 0], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    top = [[x, y, z(x, y)] for x, y in q] + [[x, y, 2.0] for x, y in q]
+    top_faces = [[2, 1, 0, 3], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]   # from (1, 1)
+    spec = {"name": "tilted", "dimension": 3, "mu": 0.6, "tolerance": 1e-3, "live_load": [1, 0, 0],
+            "blocks": [{"id": "ground", "support": True, "vertices": [[x, y, zz] for x in (-1, 2) for y in (-1, 2)
+                                                                      for zz in (-1, 0)]},
+                       {"id": "cube", "vertices": cube, "faces": cube_faces},
+                       {"id": "top", "vertices": top, "faces": top_faces}]}
+    s = structure3d_from_spec(spec)
+    pairs = [tuple(sorted(p)) for p in zip(s.iface_a, s.iface_b)]
+    assert ("cube", "top") in pairs
+    assert interface_areas(s)[pairs.index(("cube", "top"))] == pytest.approx(1.0, rel=1e-4)
