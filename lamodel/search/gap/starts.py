@@ -22,7 +22,7 @@ import numpy as np
 
 from ..highs import INF
 from ..options import Deadline, Stopped
-from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RTOL, DESCENT_STEP, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
+from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RELAXATION, CHAIN_RTOL, DESCENT_STEP, FALLBACK_PATIENCE, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
                       SEARCH_ACTIVE)
 from .alternation import Alternation
 from .certify import Certifier
@@ -237,15 +237,21 @@ class Starts:
     def chain(self, c, steps, source="chain", patience=None, until=None):
         """The seed's fixed-point chain c <- -mu N(cohesive solution); certifies each mechanism.
         ``patience``: once it certified, stop after that many steps without improvement;
-        ``until()``: True stops it. It also stops at a fixed point, and where the cohesions
-        repeat those of an earlier step (a cycle: the warm LPs would go round it again;
-        counted in ``cycles``)."""
+        ``until()``: True stops it. It also stops at a fixed point. Where the cohesions
+        repeat those of an earlier step (a cycle, counted in ``cycles``), or the chain has
+        certified nothing after FALLBACK_PATIENCE steps, it goes on relaxed,
+        ``c <- (1 - w) c + w c_new`` (w = CHAIN_RELAXATION: averaging damps an oscillation);
+        a cycle then ends it, and a chain that certified nothing ends with the gap
+        alternation from its last cohesions (:meth:`perturbed`)."""
         p = self.problem
         best, since = None, 0
         seen = []  # the cohesions of the steps so far
-        for _ in range(steps):
+        relax = 1.0
+        for step in range(steps):
             if until is not None and until():
                 break
+            if relax == 1.0 and best is None and step >= FALLBACK_PATIENCE:
+                relax, seen = CHAIN_RELAXATION, []  # not converging: averaged from here
             status, _, xc, u, xi = p.mechanism(c)
             if status != "optimal":
                 break
@@ -263,9 +269,13 @@ class Starts:
                 break
             if any(np.allclose(c_new, old, rtol=CHAIN_RTOL, atol=CHAIN_ATOL) for old in seen):
                 self.cycles += 1
-                break
+                if relax < 1.0:
+                    break
+                relax, seen = CHAIN_RELAXATION, []
             seen.append(c)
-            c = c_new
+            c = c_new if relax == 1.0 else (1.0 - relax) * c + relax * c_new
+        if best is None and relax < 1.0 and (until is None or not until()):
+            best = self.perturbed(c, source + "-relaxed")
         return best
 
     def perturbed(self, c, source="perturb"):
