@@ -267,13 +267,15 @@ class Starts:
             c_new = -p.mu * p.cohesive_N(xc)
             if np.allclose(c_new, c, rtol=CHAIN_RTOL, atol=CHAIN_ATOL):
                 break
-            if any(np.allclose(c_new, old, rtol=CHAIN_RTOL, atol=CHAIN_ATOL) for old in seen):
+            nxt = c_new if relax == 1.0 else (1.0 - relax) * c + relax * c_new
+            if any(np.allclose(nxt, old, rtol=CHAIN_RTOL, atol=CHAIN_ATOL) for old in seen):
                 self.cycles += 1
                 if relax < 1.0:
                     break
                 relax, seen = CHAIN_RELAXATION, []
+                nxt = (1.0 - relax) * c + relax * c_new
             seen.append(c)
-            c = c_new if relax == 1.0 else (1.0 - relax) * c + relax * c_new
+            c = nxt
         if best is None and relax < 1.0 and (until is None or not until()):
             best = self.perturbed(c, source + "-relaxed")
         return best

@@ -95,23 +95,33 @@ def test_the_chain_from_zero_cohesion_stops_at_the_work_limit():
     assert e.starts.from_zero() is None and e.n_lps() == lps
 
 
-def test_a_chain_whose_cohesions_come_back_stops_at_the_cycle(monkeypatch):
+def test_a_chain_whose_cohesions_come_back_goes_on_averaged(monkeypatch):
     """A chain that meets the cohesions of an earlier step again would go round the cycle
-    until its step limit; it stops at the first repeat instead. No structure measured
-    cycles (see :mod:`lamodel.search.gap.fallback`), so the cycle is forced here: the
-    cohesive statics' normal forces alternate between those of two statics."""
+    until its step limit; from the first repeat it goes on averaged instead,
+    c <- (1 - w) c + w c_new. No planar structure measured cycles (see
+    :mod:`lamodel.search.gap.fallback`), so the cycle is forced here: the cohesive
+    statics' normal forces alternate between those of two statics."""
+    from lamodel.search.tuning import CHAIN_RELAXATION as w
     e = GapSearch(_wall33(0.9))
     p = e.problem
     _, _, x0 = e.starts.associative()
     _, x_stall = e.alternation.alternate(x0)
     forced = [p.N_of(x0), p.N_of(x_stall)]
-    calls = []
+    calls, seen = [], []
 
     def alternating(xc):
         calls.append(None)
         return forced[len(calls) % 2]
+    mechanism = p.mechanism
+
+    def recording(c, allowed=None):
+        seen.append(np.array(c))
+        return mechanism(c, allowed)
     monkeypatch.setattr(p, "cohesive_N", alternating)
-    n = p.coh.n_solves
-    e.starts.chain(np.zeros(p.nc), 40)
+    monkeypatch.setattr(p, "mechanism", recording)
+    e.starts.chain(np.zeros(p.nc), 6)
     assert e.starts.cycles == 1
-    assert p.coh.n_solves - n == 3  # c0, then the two cohesions of the cycle, once each
+    # c0, the two cohesions of the cycle, then averages: never a third repeat
+    c_cycle = -p.mu * forced[1]  # the cohesions the third step gave (the repeat)
+    assert np.allclose(seen[3], (1 - w) * seen[2] + w * c_cycle)
+    assert len(seen) >= 6 and not any(np.allclose(seen[k], seen[1]) for k in range(3, 6))
