@@ -18,7 +18,7 @@ from lamodel.io import read
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.search import highs
 from lamodel.search.driver import solve
-from lamodel.search.gap import certify as gap_certify
+from lamodel.search.gap import problem as gap_problem
 from lamodel.search.options import SolveOptions
 
 pytestmark = pytest.mark.slow  # they start processes or clusters, or take seconds
@@ -108,7 +108,7 @@ def test_iteration_caps_leave_the_answer_to_the_seed(monkeypatch):
             cut.append(self.name)
         return status
     monkeypatch.setattr(highs.HighsLP, "solve", counting)
-    monkeypatch.setattr(gap_certify, "CERTIFY_CAP_ROWS", 0.5)  # a quarter of the default
+    monkeypatch.setattr(gap_problem, "CERTIFY_CAP_ROWS", 0.5)  # a quarter of the default
     structure = structure_from_json(bond6x5_spec())
     outs = [solve(structure, SolveOptions(seed=0, starts=0, ga_workers=w, pop_size=6, generations=3))
             for w in (1, 2)]
