@@ -16,7 +16,6 @@ takes a state back to the user's units, re-checked there.
 from __future__ import annotations
 
 import time
-from contextlib import contextmanager
 
 import numpy as np
 import scipy.sparse as sp
@@ -29,7 +28,7 @@ from ..highs import INF, HighsLP
 from ..options import Deadline
 from ..state import CollapseState
 from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
-from .program import CAPPED
+from .program import CAPPED, Scoped
 
 
 def state_residuals(form: Formulation, state: CollapseState) -> dict:
@@ -37,7 +36,7 @@ def state_residuals(form: Formulation, state: CollapseState) -> dict:
     return residuals(form, state.N, state.V, state.M, state.alpha, state.u, state.xi)
 
 
-class ScaledProblem:
+class ScaledProblem(Scoped):
     """The LPs of one planar structure, scaled, built once and warm-started from solve to
     solve: the plane's :class:`~.program.GapProgram`.
 
@@ -120,16 +119,6 @@ class ScaledProblem:
     def work_bound(self):
         """WORK_PER_BLOCK a block (about a minute per thousand blocks)."""
         return WORK_PER_BLOCK * self.nb
-
-    @contextmanager
-    def until(self, deadline: Deadline):
-        """Within the block, every LP solve is given ``deadline`` (e.g. a pure evaluation's,
-        or the whole time limit for the Ipopt points after the search's share)."""
-        before, self.deadline = self.deadline, deadline
-        try:
-            yield self
-        finally:
-            self.deadline = before
 
     def bases(self):
         """The LPs' current bases (portable: they pickle), by name."""

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 import time
-from contextlib import contextmanager
 
 import numpy as np
 
@@ -39,13 +38,14 @@ from ..cone import ConePrograms
 from ..options import Deadline
 from ..tuning import (CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE,
                       WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE)
+from .program import Scoped
 
 #: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
 #: polishes to that optimum).
 _REMEMBERED = 16
 
 
-class ConeProblem:
+class ConeProblem(Scoped):
     """The cone programs of one 3D structure, scaled (see the module doc)."""
 
     #: no Ipopt polish in space (the search's states are certified as they are)
@@ -87,15 +87,6 @@ class ConeProblem:
     def work_bound(self):
         """WORK_PER_BLOCK_CONE a block, at least WORK_FLOOR_CONE."""
         return max(WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE * self.nb)
-
-    @contextmanager
-    def until(self, deadline: Deadline):
-        """Within the block every program is given ``deadline``."""
-        before, self.deadline = self.deadline, deadline
-        try:
-            yield self
-        finally:
-            self.deadline = before
 
     def bases(self):
         """No warm bases in space (interior-point programs start cold)."""

@@ -25,7 +25,7 @@ Words used below:
 """
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
+from contextlib import AbstractContextManager, contextmanager
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -144,3 +144,20 @@ class GapProgram(Protocol):
 
     def to_user(self, state):
         """A scaled state in the user's units, re-checked there."""
+
+
+class Scoped:
+    """What both formulations share: a deadline every solve is given, scoped by
+    :meth:`until` (e.g. a pure evaluation's, or the whole time limit for the Ipopt points
+    after the search's share)."""
+
+    deadline = None
+
+    @contextmanager
+    def until(self, deadline):
+        """Within the block every solve is given ``deadline``."""
+        before, self.deadline = self.deadline, deadline
+        try:
+            yield self
+        finally:
+            self.deadline = before
