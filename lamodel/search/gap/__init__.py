@@ -35,14 +35,14 @@ from .program import GapProgram
 from .record import Record
 from .starts import Starts
 
-__all__ = ["GapSearch", "GapProgram", "formulation_of"]
+__all__ = ["GapSearch", "formulation_of"]
 
-#: The formulation of each kind of structure (each a :class:`GapProgram`).
+#: The formulation of each kind of structure (each a :class:`~lamodel.search.gap.program.GapProgram`).
 FORMULATIONS = {Structure: ScaledProblem, Structure3D: ConeProblem}
 
 
 def formulation_of(structure):
-    """The :class:`GapProgram` class that formulates ``structure`` (planar or in space)."""
+    """The :class:`~lamodel.search.gap.program.GapProgram` class that formulates ``structure`` (planar or in space)."""
     for kind, program in FORMULATIONS.items():
         if isinstance(structure, kind):
             return program
