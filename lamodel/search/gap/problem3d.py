@@ -32,7 +32,7 @@ import numpy as np
 
 from ...formulation.space import Formulation3D, scaled, scales
 from ...structure3d import Structure3D
-from ..certify3d import (CollapseState3D, align, mechanism_lp, passes, polish_mechanism, project_mechanism, residuals,
+from ..certify3d import (CollapseState3D, mechanism_lp, passes, polish_mechanism, project_mechanism, residuals,
                          statics_lp)
 from ..cone import ConePrograms
 from ..options import Deadline
@@ -244,7 +244,6 @@ class ConeProblem(Scoped):
         flow_open, flow_slip = self._split(flow)
         qn, slip = q[:n], np.hypot(q[n:2 * n], q[2 * n:])
         tried = set()
-        first = None  # the first pattern whose exact motion keeps its modes
         for tol in CONE_FLOW_TOLS:
             opening = flow_open & (qn > tol * top)
             sliding = flow_slip & (slip > tol * top) & ~opening
@@ -255,24 +254,9 @@ class ConeProblem(Scoped):
             exact = self._exact_motion(u, opening, sliding, c)
             if exact is None:
                 continue
-            first = first or (opening, sliding, exact)
             held = np.concatenate([opening, sliding])
             for tag, x in self._held_statics(opening, sliding, self._directions(exact)):
                 yield x, exact, np.where(held, self.flows(exact, 0.0), 0.0), held, "+certify-" + tag
-        if first is not None and c is not None and first[1].any():
-            # no statics held the conic slip directions (they are off by about the square
-            # root of the solver's tolerance): turn them until a statics and a mechanism
-            # agree, about the normal forces N = -c / mu the mechanism is least for
-            opening, sliding, exact = first
-            self.deadline.check()
-            self.n_lp += 1
-            N0 = np.where(self.mu > 0, -np.asarray(c, float) / np.where(self.mu > 0, self.mu, 1.0), 0.0)
-            got = align(self.form, opening, sliding, exact, N0)
-            moved = None if got is None else project_mechanism(self.form, got[1], ~(opening | sliding), sliding)
-            if moved is not None:
-                held = np.concatenate([opening, sliding])
-                for tag, x in self._held_statics(opening, sliding, got[0]):
-                    yield x, moved, np.where(held, self.flows(moved, 0.0), 0.0), held, "+align-" + tag
 
     def _exact_motion(self, u, opening, sliding, c):
         """The nearest exact motion with only ``opening`` and ``sliding`` points moving
