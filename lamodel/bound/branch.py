@@ -40,6 +40,10 @@ from .lps import BoundLPs
 FLOW_TOL = 1e-7
 #: a round that raises a by less than this (relative) ends the node's rounds
 ROUND_TOL = 1e-12
+#: the screen (BranchAndBound._can_raise) runs before a round of more than SCREEN_MIN
+#: Nmin LPs, at most SCREEN_LPS cohesive LPs; it calls a round useless only when the
+#: cohesive LP at the screen's normal forces stays within SCREEN_TOL (relative to U) of a
+SCREEN_MIN, SCREEN_LPS, SCREEN_TOL = 4, 8, 1e-9
 
 
 class OutOfTime(Exception):
@@ -106,6 +110,9 @@ class BranchAndBound:
         # as it lost against "none" ("all" with 1.5-2.5x the LPs), so it is not the default
         self.pairs = pairs
         self.eager_root = eager_root
+        # the screen only where nothing follows the root's rounds (the default bound): when
+        # nodes are branched on, the Nmin a round proves also places the splits
+        self.screen = max_nodes == 1
 
     # ------------------------------------------------------------------ time
     def _check_time(self):
@@ -114,8 +121,9 @@ class BranchAndBound:
             raise OutOfTime()
 
     # ------------------------------------------------------------------ one node
-    def _nmin(self, node, k) -> bool:
-        """Recompute Nmin_k in the node; False when the node is proven empty.
+    def _nmin(self, node, k, seen=None) -> bool:
+        """Recompute Nmin_k in the node; False when the node is proven empty. ``seen``:
+        lowered to the ``-N`` of every statics the LPs find (an upper bound of each Nmin).
 
         While Nmin_k is 0, a feasibility LP first asks whether contact k can be open
         (N_k = 0) at some statics of the node: then Nmin_k = 0 needs no certificate, and
@@ -125,8 +133,11 @@ class BranchAndBound:
         if node.nmin[k] == 0 and node.lo[k] == 0:
             shut = node.hi.copy()
             shut[k] = 0.0
-            if self.lps.normal_force(None, node.a, node.b, node.lo, shut, deadline=self.deadline).status == "optimal":
+            ans = self.lps.normal_force(None, node.a, node.b, node.lo, shut, deadline=self.deadline)
+            if ans.status == "optimal":
                 node.fresh.add(k)
+                if seen is not None:
+                    np.minimum(seen, ans.x, out=seen)
                 return True
             self._check_time()
         ans = self.lps.normal_force(k, node.a, node.b, node.lo, node.hi, deadline=self.deadline)
@@ -139,6 +150,8 @@ class BranchAndBound:
         if ans.status != "optimal":
             self._check_time()
             return True
+        if seen is not None:
+            np.minimum(seen, ans.x, out=seen)
         q = self.exact.dual_bound(ans.y, k, node.a, node.b, node.lo, node.hi)
         if q is None or q < Fraction(ans.value) - Fraction(1, 10 ** 6) * max(1, abs(ans.value)):
             self.progress.checks_failed += 1
@@ -193,9 +206,58 @@ class BranchAndBound:
                     if found != "raised":
                         return found != "excluded"
                     continue  # the polygon raised a: new rounds
+            if self.screen and len(todo) > SCREEN_MIN and not self._can_raise(node, todo):
+                # the round would raise nothing: its LPs are not solved, and the rounds end
+                # here as they would after it (the cohesive LP at alpha_coh = a is often
+                # degenerate: another of its mechanisms would only ask the same again)
+                node.fresh |= todo
+                found = self._pair(node)
+                if found != "raised":
+                    return found != "excluded"
+                todo = None
+                continue
+            todo -= node.fresh
             if not self._round(node, todo):
                 return False
             todo = None
+
+    def _can_raise(self, node, todo) -> bool:
+        """Whether a round on ``todo`` could raise the node's a, deciding lazily. Every
+        statics of the node bounds each Nmin from above (Nmin_k <= its -N_k), so the least
+        ``-N`` over the statics found, ``ub``, does too, and alpha_coh never decreases in a
+        cohesion: when alpha_coh(mu max(nmin, ub)) does not exceed a, no round can. Else
+        the Nmin of the contacts its mechanism slides on are computed (proven, kept: the
+        round skips them) and the test repeats, at most SCREEN_LPS times. The first statics
+        minimises the ``-N`` of ``todo`` weighted by the node's mechanism. A decision, not a
+        proof: the node keeps only what was proven."""
+        rate = node.rate if node.rate is not None else np.ones(self.nc)
+        w = {int(k): float(max(rate[k], FLOW_TOL)) for k in todo}
+        self._check_time()
+        ans = self.lps.normal_force(w, node.a, node.b, node.lo, node.hi, deadline=self.deadline)
+        if ans.status != "optimal":
+            return True
+        ub = ans.x.copy()
+        members = np.zeros(self.nc, bool)
+        members[list(todo)] = True
+        for _ in range(SCREEN_LPS):
+            self._check_time()
+            # the round moves only the Nmin of todo: the others stay at nmin
+            top = self.lps.cohesive(self.mu * np.where(members, np.maximum(node.nmin, ub), node.nmin),
+                                    deadline=self.deadline)
+            if top.status != "optimal" or top.slide_rate is None:
+                return True
+            if not top.value > node.a + SCREEN_TOL * max(1.0, abs(self.U)):
+                return False
+            r = top.slide_rate
+            pending = [int(k) for k in np.flatnonzero(members & (r > FLOW_TOL * r.max(initial=0.0)))
+                       if k not in node.fresh]
+            if not pending:
+                return True   # its sliding contacts are proven: the round decides
+            for k in pending:
+                if not self._nmin(node, k, seen=ub):
+                    return True   # an empty node: the round finds it again and excludes it
+                ub[k] = min(ub[k], node.nmin[k]) if node.nmin[k] > 0 else ub[k]
+        return True
 
     def _round(self, node, todo) -> bool:
         """Nmin of the contacts ``todo``; False when the node is proven empty."""
