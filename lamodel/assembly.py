@@ -7,11 +7,22 @@ by id, and the two bodies a contact (2D) or an interface (3D) joins by their blo
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 
+@dataclass
 class Assembly:
-    """Lookups and conversions for a dataclass with ``blocks`` (ids) and ``units``."""
+    """The fields every assembly starts with, and lookups and conversions on them
+    (``d`` is 2 in the plane, 3 in space)."""
+
+    name: str
+    blocks: list            # ids of the movable blocks
+    centroid: np.ndarray    # (nb, d)
+    dead: np.ndarray        # (nb, d) constant force f0 at the centroid
+    live: np.ndarray        # (nb, d) base live force fbar at the centroid (times alpha)
+    supports: list          # ids of the fixed bodies
 
     def _as_text(self, *names):
         """The id lists ``names`` as lists of str; ``units`` as {str: str} without empty values."""

@@ -45,12 +45,7 @@ YIELD_ROWS = ("slide+", "slide-", "hinge+", "hinge-")
 class Structure(Assembly):
     """A planar assembly of rigid blocks with Coulomb contacts (seed eq. 1-4)."""
 
-    name: str
-    blocks: list            # ids of the movable blocks
-    centroid: np.ndarray    # (nb, 2)
-    dead: np.ndarray        # (nb, 2) constant force f0 at the centroid
-    live: np.ndarray        # (nb, 2) base live force fbar at the centroid (times alpha)
-    supports: list          # ids of the fixed bodies
+    # name, blocks, centroid (nb, 2), dead, live, supports: Assembly's
     contacts: list          # ids of the contacts
     block_a: list           # per contact: id of block a (a block or a support)
     block_b: list           # per contact: id of block b (a block or a support)

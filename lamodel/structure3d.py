@@ -33,12 +33,7 @@ from .validation import check_ends, check_finite, check_friction, check_ids, che
 class Structure3D(Assembly):
     """An assembly of rigid polyhedral blocks with Coulomb point contacts (seed eq. 1-4 in 3D)."""
 
-    name: str
-    blocks: list                 # ids of the movable blocks
-    centroid: np.ndarray         # (nb, 3)
-    dead: np.ndarray             # (nb, 3) constant force f0 at the centroid
-    live: np.ndarray             # (nb, 3) base live force fbar at the centroid (times alpha)
-    supports: list               # ids of the fixed bodies
+    # name, blocks, centroid (nb, 3), dead, live, supports: Assembly's
     interfaces: list             # ids of the interfaces
     iface_a: list                # per interface: id of body a (a block or a support)
     iface_b: list                # per interface: id of body b

@@ -3,6 +3,7 @@ import os
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,3 +57,24 @@ def dask_cluster():
         yield cluster
     finally:
         cluster.close()
+
+
+def bound_parts(s):
+    """(s, its lower-bound LPs, its exact data) with the opening motion in place."""
+    if getattr(s, "dimension", 2) == 3:
+        from lamodel.bound.space import BoundLPs3D as LPs, ExactData3D as Exact
+    else:
+        from lamodel.bound.exact import ExactData as Exact
+        from lamodel.bound.lps import BoundLPs as LPs
+    lps, ex = LPs(s), Exact(s)
+    assert ex.use_opening_motion(lps.opening_motion())
+    return s, lps, ex
+
+
+def assert_same_structure(a, b, exact=True):
+    """Two planar structures hold the same blocks, contacts and numbers (a round trip)."""
+    assert a.blocks == b.blocks and a.supports == b.supports and a.contacts == b.contacts
+    assert a.block_a == b.block_a and a.block_b == b.block_b
+    for name in ("centroid", "dead", "live", "centre", "normal", "d", "mu"):
+        same = np.array_equal if exact else np.allclose
+        assert same(getattr(a, name), getattr(b, name)), name

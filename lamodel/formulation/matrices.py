@@ -168,13 +168,19 @@ def kinematic_multiplier(f0, mu, u, xi, N) -> float:
 
 
 @dataclass
-class Formulation:
-    """The matrices of one structure, built once (every solver of it shares them)."""
+class Statics:
+    """Eq. 1 of one structure (plane or space): its equilibrium matrix and load vectors."""
 
-    structure: Structure
+    structure: object
     A: sp.csr_matrix
     f0: np.ndarray
     fbar: np.ndarray
+
+
+@dataclass
+class Formulation(Statics):
+    """The matrices of one structure, built once (every solver of it shares them)."""
+
     Y: sp.csr_matrix
     G: sp.csr_matrix
 

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..structure3d import Structure3D
+from .matrices import Statics
 
 
 def _skew_rows(r: np.ndarray, f: np.ndarray) -> np.ndarray:
@@ -102,13 +103,8 @@ def scaled(s: Structure3D, F: float, L: float) -> Structure3D:
 
 
 @dataclass
-class Formulation3D:
+class Formulation3D(Statics):
     """The matrices of one 3D structure, built once (every solver of it shares them)."""
-
-    structure: Structure3D
-    A: sp.csr_matrix
-    f0: np.ndarray
-    fbar: np.ndarray
 
     @classmethod
     def of(cls, s: Structure3D) -> "Formulation3D":

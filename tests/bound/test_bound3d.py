@@ -15,7 +15,7 @@ from lamodel.bound.lower import lower_bound
 from lamodel.bound.space import BETA, ZONES, BoundLPs3D, ExactData3D, pyramid_vertices, zone_directions
 from lamodel.formulation.extrude import extrude
 from lamodel.io import read
-from conftest import INSTANCES
+from conftest import INSTANCES, bound_parts
 
 
 def stack_closed_form(n, a, b, h, mu, phi):
@@ -98,10 +98,7 @@ def test_bound_is_sound_on_random_stacks(seed):
 
 @pytest.fixture
 def box3d():
-    s = box_on_ground(1.0, 0.5, 2.0, 0.6, (1.0, 0.0, 0.0))
-    lps, ex = BoundLPs3D(s), ExactData3D(s)
-    assert ex.use_opening_motion(lps.opening_motion())
-    return s, lps, ex
+    return bound_parts(box_on_ground(1.0, 0.5, 2.0, 0.6, (1.0, 0.0, 0.0)))
 
 
 def test_dual_bound_on_the_cone_is_below_the_pyramid_minimum(box3d):

@@ -30,7 +30,7 @@ from test_metamorphic import CASES, transform_spec  # noqa: E402
 from test_properties import piers, stacks, trilithons, with_friction_and_load  # noqa: E402
 from truth import true_alpha_c  # noqa: E402
 
-from conftest import INSTANCES  # noqa: E402
+from conftest import INSTANCES, bound_parts  # noqa: E402
 
 OPTIONS = SolveOptions(starts=0, pop_size=4, generations=2, progress=False)
 SETTINGS = settings(max_examples=6, deadline=None, derandomize=True,
@@ -138,10 +138,7 @@ def test_alpha_lower_is_frame_free(case):
 # ------------------------------------------------------------------ the exact check
 @pytest.fixture(scope="module")
 def portal():
-    s = read(INSTANCES / "portal.dat")
-    lps, ex = BoundLPs(s), ExactData(s)
-    assert ex.use_opening_motion(lps.opening_motion())
-    return s, lps, ex
+    return bound_parts(read(INSTANCES / "portal.dat"))
 
 
 def test_dual_bound_is_below_the_lp_minimum_and_a_corrupted_point_cannot_claim_more(portal):
