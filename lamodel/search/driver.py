@@ -241,11 +241,6 @@ def _search(engine, opt, progress, client=None, work=None):
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
             starts.continuations(x0)
-        if starts.work_bound is not None:
-            # the LP work left, in LP solves at the mean work of those so far (the phases
-            # before the GA run serially: the same count with any number of workers)
-            left = (starts.work_bound - starts.work()) * engine.n_lps() / max(starts.work(), 1)
-            lp_cap = min(lp_cap, engine.n_lps() + max(left, 0.0))
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")
@@ -271,8 +266,12 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None, lp_cap=N
     def stalled():
         """The stopping rule: pop_size evaluations and STALL_WORK times the LPs of the
         first certificate without improvement (LPs, not seconds: deterministic); without
-        a time limit, also ``lp_cap`` LPs in all (the driver's work bounds)."""
+        a time limit, also ``lp_cap`` LPs in all and the work bound (the driver's work
+        bounds; evaluations elsewhere merged in task order count theirs: the same with any
+        number of workers)."""
         if lp_cap is not None and engine.n_lps() >= lp_cap:
+            return True
+        if engine.starts.work_bound is not None and engine.starts.work() >= engine.starts.work_bound:
             return True
         return (state["since"] >= opt.pop_size
                 and engine.n_lps() - state["lps"] >= STALL_WORK * lps_first)
@@ -293,7 +292,17 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None, lp_cap=N
     def fitness(z):
         if stalled():  # the rest of this generation is skipped, then the GA stops
             return math.inf
-        return counted(fitness_of.evaluate(z, opt.chain, reference_N=fitness_of.reference_N()))
+        try:
+            # one evaluation (a chain of certified, descended steps) can cost a tenth of the
+            # work bound at 510 blocks: it ends between two LP solves once the bound is
+            # spent (what it certified is in the record already)
+            with engine.problem.until(engine.starts.bounded()):
+                alpha = fitness_of.evaluate(z, opt.chain, reference_N=fitness_of.reference_N())
+        except Stopped:
+            if engine.problem.deadline.expired():
+                raise
+            alpha = math.inf
+        return counted(alpha)
 
     def take(outcome, left):
         """One pure evaluation's outcome (generations.py), taken in task order."""

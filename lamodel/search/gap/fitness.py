@@ -84,25 +84,26 @@ class Fitness:
         self.record.forget()
         found = []
         self.record.on_state = found.append
-        lps = p.n_lps()
+        lps, work = p.n_lps(), p.work()
         with p.until(deadline):
             alpha = self.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
         learned = dict(certified={k: v for k, v in self.certifier.cache.items() if k not in snap["certified"]},
                        descended={k: v for k, v in self.descent.cache.items() if k not in snap["descended"]},
-                       bases=p.bases())
+                       bases=p.bases(), work=p.work() - work)
         return alpha, found, p.n_lps() - lps, learned
 
     def merge(self, states, lps, learned=None):
         """What an evaluator found, taken here as if found here (in the order given:
         callers merge evaluations in task order): its certified states, its LP count and
-        what it learned (certifications and descents by flow pattern, and its final bases,
-        for later snapshots)."""
+        what it learned (certifications and descents by flow pattern, its final bases, for
+        later snapshots, and its LP work)."""
         for st in states:
             if self.record.on_state is not None:
                 self.record.on_state(st)
             self.record.take(st)
         self.problem.lps_elsewhere += lps
         if learned is not None:
+            self.problem.work_elsewhere += learned.get("work", 0)
             for mine, theirs in ((self.certifier.cache, learned["certified"]),
                                  (self.descent.cache, learned["descended"])):
                 for key, value in theirs.items():

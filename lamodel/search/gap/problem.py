@@ -103,6 +103,7 @@ class ScaledProblem(Scoped):
             for lp in self.lps.values():
                 lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
         self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see Fitness.merge)
+        self.work_elsewhere = 0  # and their work
 
     # ------------------------------------------------------------------ bookkeeping
     def elapsed(self):
@@ -113,8 +114,9 @@ class ScaledProblem(Scoped):
         return sum(lp.n_solves for lp in self.lps.values()) + self.lps_elsewhere
 
     def work(self):
-        """The LP work so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
-        return sum(lp.work for lp in self.lps.values())
+        """The LP work so far (:attr:`lamodel.search.highs.HighsLP.work`), merged evaluations
+        included."""
+        return sum(lp.work for lp in self.lps.values()) + self.work_elsewhere
 
     def work_bound(self):
         """WORK_PER_BLOCK a block (about a minute per thousand blocks)."""

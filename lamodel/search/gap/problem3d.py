@@ -67,6 +67,7 @@ class ConeProblem(Scoped):
         self.mu = self.form.mu
         self.lps = {}                # no warm bases
         self.lps_elsewhere = 0
+        self.work_elsewhere = 0      # the cone work of evaluations merged from elsewhere
         self.n_lp = 0                # HiGHS LPs of the certificates
         self._mechanisms = {}        # id(u) -> (u, c): the cohesions u is least-alpha_K for
         self._solved = {}            # (c, allowed) -> the cohesive program's answer, the last few
@@ -81,8 +82,9 @@ class ConeProblem(Scoped):
         return self.cone.n_solves + self.n_lp + self.lps_elsewhere
 
     def work(self):
-        """The cone programs' work so far (:attr:`lamodel.search.cone.ConePrograms.work`)."""
-        return self.cone.work
+        """The cone programs' work so far (:attr:`lamodel.search.cone.ConePrograms.work`),
+        merged evaluations included."""
+        return self.cone.work + self.work_elsewhere
 
     def work_bound(self):
         """WORK_PER_BLOCK_CONE a block, at least WORK_FLOOR_CONE."""

@@ -53,6 +53,7 @@ class GapProgram(Protocol):
     lps: dict
     #: program solves made for this search elsewhere (pure GA evaluations merged in)
     lps_elsewhere: int
+    work_elsewhere: int
     #: least alpha over S at or below this counts as zero (the dead load stands alone)
     stable_alpha: float
     #: whether the driver polishes the search's states with Ipopt on eq. (5)

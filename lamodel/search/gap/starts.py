@@ -150,7 +150,7 @@ class Starts:
         certified before an early end is in the record)."""
         t = time.perf_counter()
         try:
-            with self.problem.until(self._bounded()):
+            with self.problem.until(self.bounded()):
                 best, x = self.alternate(x_assoc, rhos=rhos, source="continuation")
                 if self._stalled_below_best(x, self.record.best):
                     st, x = self.alternate(x, rhos=RHO_HIGH, source="continuation")
@@ -165,7 +165,7 @@ class Starts:
         finally:
             self.record.phase("continuation", t)
 
-    def _bounded(self) -> Deadline:
+    def bounded(self) -> Deadline:
         """The search's deadline, which also expires once the work bounds are spent. The work
         grows only when a solve ends, so it expires between two solves: no LP is cut inside
         HiGHS (the LPs stay usable), the next one raises Stopped before it starts."""
@@ -192,8 +192,13 @@ class Starts:
         certified state (or None)."""
         if self._from_zero is None:
             t = time.perf_counter()
+            # the cohesive LP cold: its statics is degenerate (many optima), the chain's next
+            # cohesions are the one HiGHS returns, and from a basis the search left the chain
+            # went elsewhere (20 x 25 running bond at mu = 1.0: nothing certified in 60 steps
+            # after the continuations; cold: 0.559060 at step 27)
+            self.problem.load_bases({name: None for name in self.problem.save_bases(("coh",))})
             try:
-                with self.problem.until(self._bounded()):
+                with self.problem.until(self.bounded()):
                     self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
             except Stopped:
                 if self.problem.deadline.expired():
