@@ -94,3 +94,18 @@ def test_default_search_certifies_a_dome_only_the_alignment_certifies():
     res = residuals(form, st.N, st.T1, st.T2, st.alpha, st.u, form.strains(st.u))
     assert max(res.values()) <= RESIDUAL_TOLERANCE
     assert st.alpha <= r.associative + 1e-9
+
+
+def test_align_is_bounded_counted_and_stopped_by_its_deadline(near_collapse):
+    from lamodel.search.options import Deadline, Stopped
+    form, _, x, u = near_collapse
+    opening, sliding = _pattern(form, u)
+    exact = project_mechanism(form, u, ~(opening | sliding), sliding)
+    work = []
+    assert align(form, opening, sliding, exact, x[:form.np], tally=work.append) is not None
+    assert len(work) >= 2 and all(w >= 0 for w in work) and sum(work) > 0   # warm steps after the first
+    capped = []
+    assert align(form, opening, sliding, exact, x[:form.np], ipm_cap=1, tally=capped.append) is None
+    assert len(capped) == 1                     # the first LP stopped at its cap: no step taken
+    with pytest.raises(Stopped):
+        align(form, opening, sliding, exact, x[:form.np], deadline=Deadline.after(-1.0))
