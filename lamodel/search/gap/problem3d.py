@@ -19,7 +19,9 @@ along the tangential force); a mechanism's flows ``xi`` are its openings and sli
   those points moving (:func:`~lamodel.search.certify3d.project_mechanism`), polished to
   the least alpha_K for its cohesions (:func:`~lamodel.search.certify3d.polish_mechanism`),
   then the least alpha with the points held: the exact LP on fixed cones
-  (:func:`~lamodel.search.certify3d.statics_lp`) and the held cone program's statics.
+  (:func:`~lamodel.search.certify3d.statics_lp`) and the held cone program's statics;
+  where none holds, the same with the sliding directions aligned
+  (:func:`~lamodel.search.certify3d.align`).
 
 No warm bases: an interior-point program starts cold (``lps`` is empty).
 """
