@@ -333,9 +333,22 @@ def exact_state(form: Formulation3D, x, u=None, source="") -> CollapseState3D | 
 #: Facets of the pyramid inscribed in a stuck point's cone in :func:`align`, its steps, the
 #: largest turn (rad) of a sliding direction in one step, and the turn below which it stops.
 ALIGN_FACETS, ALIGN_STEPS, ALIGN_TURN, ALIGN_DONE = 16, 8, 1e-2, 1e-13
+#: Coefficients of the alignment LP below this are round-off (the problem is non-dimensional).
+ALIGN_ROUND_OFF = 1e-15
 
 
-def align(form: Formulation3D, opening, sliding, u, N0, steps=ALIGN_STEPS):
+def lp_work(lp: HighsLP) -> float:
+    """The work of an LP's last solve in the cone programs' units (iterations times rows^1.5,
+    :attr:`lamodel.search.cone.ConePrograms.work`): an interior-point iteration factorises
+    as a cone program's does, a simplex (or crossover) iteration updates a factor of the
+    rows, so it counts the rows once."""
+    info = lp.h.getInfo()
+    simplex = max(info.simplex_iteration_count, 0) + max(info.crossover_iteration_count, 0)
+    return max(info.ipm_iteration_count, 0) * lp.m ** 1.5 + simplex * lp.m
+
+
+def align(form: Formulation3D, opening, sliding, u, N0, steps=ALIGN_STEPS, deadline=None, ipm_cap=None,
+          cap_rows=None, tally=None):
     """Sliding directions on which a statics and a mechanism with the given points opening
     and sliding agree, by Newton's method on the flow rule; None if a step is infeasible.
 
@@ -346,7 +359,11 @@ def align(form: Formulation3D, opening, sliding, u, N0, steps=ALIGN_STEPS):
     and the slip ``(d_perp . slip) = |slip| dt`` both linearised about the last step (N0,
     |slip|), stuck points in a pyramid of ALIGN_FACETS facets inscribed in their cone and
     still, opening points free of force and opening; one LP (HiGHS) a step, the least
-    total turn.
+    total turn. Consecutive steps' LPs have one shape: the first starts cold by the
+    interior point method (at most ``ipm_cap`` iterations: it tells an infeasible pattern
+    in a dozen, where the dual simplex wandered for minutes), each next one from the last
+    one's basis (at most ``cap_rows`` simplex iterations a row); every solve stops at
+    ``deadline``, inside HiGHS, and ``tally(work)`` is told its work (:func:`lp_work`).
     Returns (directions (np, 2), mechanism u) for :func:`statics_lp` and :func:`exact_state`
     (which decide: nothing here is a certificate)."""
     npt, nb = form.np, form.nb
@@ -379,6 +396,7 @@ def align(form: Formulation3D, opening, sliding, u, N0, steps=ALIGN_STEPS):
     m_lo = np.concatenate([np.zeros(3 * ist.size + ns + io.size), [1.0]])
     m_hi = np.concatenate([np.zeros(3 * ist.size + ns), np.full(io.size, INF), [1.0]])
     Z = lambda r_, c_: sp.csr_matrix((r_, c_))  # noqa: E731
+    basis = None
     for _ in range(steps):
         perp = np.column_stack([-d[:, 1], d[:, 0]])
         # T_k + mu N d_k + mu N0 dt perp_k = 0 (k = 1, 2)
@@ -406,9 +424,20 @@ def align(form: Formulation3D, opening, sliding, u, N0, steps=ALIGN_STEPS):
             c_lo[idx] = c_hi[idx] = 0.0
         cost = np.zeros(nx + nu + 2 * ns)
         cost[nx + nu + ns:] = 1.0   # the least turn
-        lp = HighsLP(rows, lo, cost, c_lo, c_hi, name="align3d", b_hi=hi)
-        if lp.solve() != "optimal":
+        rows.data[np.abs(rows.data) < ALIGN_ROUND_OFF] = 0.0   # round-off (cos(pi / 2)), not coefficients
+        rows.eliminate_zeros()
+        lp = HighsLP(rows, lo, cost, c_lo, c_hi, name="align3d", b_hi=hi, ipm=True)
+        cap = None if cap_rows is None else max(int(cap_rows * lp.m), 1)
+        if basis is not None:
+            lp.restart(basis)
+        try:
+            status = lp.solve(cap=cap, deadline=deadline, ipm_cap=ipm_cap)
+        finally:
+            if tally is not None and not lp.abandoned:
+                tally(lp_work(lp))
+        if status != "optimal":
             return None
+        basis = lp.portable_basis()
         sol = lp.x()
         dt, u = sol[nx + nu:nx + nu + ns], sol[nx:nx + nu]
         d = d + dt[:, None] * perp

@@ -74,7 +74,7 @@ class HighsLP:
     call raises :class:`Stopped`), so a search is unusable after a Stopped.
     """
 
-    def __init__(self, A, b, cost, lo, hi, name="", b_hi=None, warm="primal"):
+    def __init__(self, A, b, cost, lo, hi, name="", b_hi=None, warm="primal", ipm=False):
         self.A = sp.csc_matrix(A)
         self.m, self.n = self.A.shape
         self.b = np.asarray(b, float).copy()
@@ -84,6 +84,7 @@ class HighsLP:
         self.deadline = _NEVER  # that of the solve under way (see solve)
         self.name = name
         self.warm_strategy = {"primal": 4, "dual": 1}[warm]  # HiGHS's simplex_strategy of warm solves
+        self.ipm = bool(ipm)  # a cold start by the interior point method whatever the size
         self._built = tuple(v.copy() for v in (self.cost, self.lo, self.hi, self.b, self.b_hi))
         self._fresh()
         self.n_solves = 0
@@ -109,7 +110,7 @@ class HighsLP:
         lp.a_matrix_.index_ = self.A.indices.astype(np.int32)
         lp.a_matrix_.value_ = self.A.data.astype(float)
         h.passModel(lp)
-        if self.n > INLINE_COLUMNS:
+        if self.n > INLINE_COLUMNS or self.ipm:
             # HiGHS calls these inside its iterations: the deadline and Ctrl-C reach into a
             # solve (inline solves take milliseconds: the deadline is checked between them)
             h.cbSimplexInterrupt.subscribe(self._interrupt)
@@ -204,19 +205,23 @@ class HighsLP:
         change(changed.size, changed.astype(np.int32), lo[changed], hi[changed])
         return lo, hi
 
-    def solve(self, cap: int | None = None, deadline: Deadline | None = None) -> str:
+    def solve(self, cap: int | None = None, deadline: Deadline | None = None, ipm_cap: int | None = None) -> str:
         """'optimal', 'infeasible', 'unbounded' or another HiGHS status word; raises Stopped
         when ``deadline`` (None: none) fires, also inside HiGHS.
 
         ``cap`` (simplex iterations) bounds this warm solve alone: past it the status is
         'iteration limit', the basis is the one it started from, and the search goes on (a
         certification LP that would take minutes is not worth it). Iterations, not
-        seconds: the outcome does not depend on the machine or on its load.
+        seconds: the outcome does not depend on the machine or on its load. ``ipm_cap``
+        bounds the interior-point iterations of a cold start by the interior point method
+        (and ``cap`` its simplex clean-up): past either the status is HiGHS's word for it.
         """
         self._usable()
         self.deadline = deadline or _NEVER
         self.deadline.check()
         h = self.h
+        interior = self.cold and (self.n > IPM_COLUMNS or self.ipm)
+        clean_up = cap if interior else None
         start = h.getBasis() if cap is not None and not self.cold else None
         if start is None:
             cap = None
@@ -231,16 +236,19 @@ class HighsLP:
         # HiGHS compares time_limit with the run time accumulated over all runs of this object
         h.setOptionValue("time_limit", h.getRunTime() + float(max(left, 1e-3)) if left < INF else INF)
         t = time.perf_counter()
-        if self.cold and self.n > IPM_COLUMNS:
+        if interior:
             # IPM + crossover at IPM_TOLERANCE, then the warm primal simplex to LP_TOLERANCE
             for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
                 h.setOptionValue(option, IPM_TOLERANCE)
             h.setOptionValue("solver", "ipm")
             h.setOptionValue("run_crossover", "on")
+            h.setOptionValue("ipm_iteration_limit", highspy.kHighsIInf if ipm_cap is None else max(int(ipm_cap), 1))
             self._run()
             for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
                 h.setOptionValue(option, LP_TOLERANCE)
             if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
+                if clean_up is not None:
+                    h.setOptionValue("simplex_iteration_limit", max(int(clean_up), 1))
                 h.setOptionValue("solver", "simplex")
                 h.setOptionValue("simplex_strategy", self.warm_strategy)
                 self._run()

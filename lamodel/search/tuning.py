@@ -126,10 +126,10 @@ CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
 #: it goes on averaged, c <- (1 - w) c + w c_new (a Krasnoselskii-Mann step): on a dome of
 #: 3 rings of 12 voussoirs the unrelaxed chain oscillates (alpha_K 0.488-0.505, steps of
 #: 10-30 % of c for 60 steps) and nothing certifies; averaged with w = 0.2 from step 8 the
-#: chain from zero cohesion certified 0.500013 and the search 0.499882 (158 s of CPU) while
-#: the certificates also turned the sliding directions (certify3d.align, since left out of
-#: the search for its cost); without that turn the dome is not certified. The seed's walls
-#: and the planar tests keep their alphas and LP counts.
+#: chain from zero cohesion certified 0.500013 and the search 0.499882, its certificates
+#: turning the sliding directions (certify3d.align; the default run: 88.5 s of CPU, 1,964
+#: solves, measured under load); without that turn the dome is not certified. The seed's
+#: walls and the planar tests keep their alphas and LP counts.
 CHAIN_RELAXATION = 0.2
 #: A certified state must satisfy every condition of a collapse state to this relative
 #: accuracy (lamodel.search.certify.residuals), in the scaled frame and in the user's. Two
@@ -244,3 +244,23 @@ CONE_ACTIVE = 1e-6
 #: 278 s of CPU (lamodel.search.driver.solve on instances/facade.json and the cases of
 #: benchmarks/solve3d.py).
 WORK_PER_BLOCK_CONE, WORK_FLOOR_CONE = 3.5e6, 6.0e8
+#: The alignment of a conic mechanism's sliding directions (certify3d.align), tried by
+#: ConeProblem.certificates only where no held statics certified the first flow pattern of
+#: a mechanism whose cohesions are known, once a pattern (a pure evaluation forgets which):
+#: its first LP starts by the interior point method, at most ALIGN_IPM_CAP iterations, each
+#: next one from the last one's basis, at most ALIGN_CAP_ROWS simplex iterations a row; its
+#: work counts in the search's (certify3d.lp_work). Measured on the extruded wall33: first
+#: LPs (1,250-1,650 columns, 1,900-6,100 rows) that HiGHS's dual simplex took up to 254 s
+#: of CPU on (a "solve error" after wandering) the interior point method finds infeasible in
+#: 9-21 iterations (0.04-0.13 s); an aligned pattern takes 3-5 LPs, its warm ones at most
+#: 0.10 simplex iterations a row (the domes of 4 x 6 and 3 x 12). The rule, measured on the
+#: default runs of benchmarks/solve3d.py (under load): calls / aligned / LPs / solves in all
+#: wall33 11/0/11/152 (141 without), wall55 8/0/8/160 (152), vault 1/0/1/122 (121), facade
+#: 1/0/1/149 (148), dome3x8 29/0/29/1255 (1226), every alpha unchanged; dome3x6 82/44/233/
+#: 2771 (3400; 0.459717, was 0.465441), dome4x6 28/22/99/2226 (0.412000, none certified
+#: without), dome3x12 0.499882 (none without). A gate on how far the cohesive statics' normal
+#: forces are from giving back the cohesions (the chain's fixed-point residual at the sliding
+#: points) does not separate: patterns aligned at 0.009-0.26 of the largest cohesion, ones
+#: with no statics from 0.022 up; a failed call costs one capped LP.
+ALIGN_IPM_CAP = 50
+ALIGN_CAP_ROWS = 2.0

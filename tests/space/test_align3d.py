@@ -76,3 +76,36 @@ def test_align_refuses_a_pattern_without_sliding(near_collapse):
     form, _, x, u = near_collapse
     none = np.zeros(form.np, bool)
     assert align(form, none, none, u, x[:form.np]) is None
+
+
+@pytest.mark.slow
+def test_default_search_certifies_a_dome_only_the_alignment_certifies():
+    """A dome of 4 rings of 6: without the alignment the default run certifies nothing
+    (its conic slips are off by the solver's tolerance); with it the certified state
+    passes every residual, in the scaled frame and in the user's units."""
+    from lamodel.search.search3d import solve3d
+    s = structure3d_from_spec(dome(4, 6))
+    r = solve3d(s)
+    assert r.status == "certified"
+    assert any("+align-" in source for _, _, source in r.history)
+    assert max(r.state.residual.values()) <= RESIDUAL_TOLERANCE
+    form = Formulation3D.of(s)
+    st = r.state
+    res = residuals(form, st.N, st.T1, st.T2, st.alpha, st.u, form.strains(st.u))
+    assert max(res.values()) <= RESIDUAL_TOLERANCE
+    assert st.alpha <= r.associative + 1e-9
+
+
+def test_align_is_bounded_counted_and_stopped_by_its_deadline(near_collapse):
+    from lamodel.search.options import Deadline, Stopped
+    form, _, x, u = near_collapse
+    opening, sliding = _pattern(form, u)
+    exact = project_mechanism(form, u, ~(opening | sliding), sliding)
+    work = []
+    assert align(form, opening, sliding, exact, x[:form.np], tally=work.append) is not None
+    assert len(work) >= 2 and all(w >= 0 for w in work) and sum(work) > 0   # warm steps after the first
+    capped = []
+    assert align(form, opening, sliding, exact, x[:form.np], ipm_cap=1, tally=capped.append) is None
+    assert len(capped) == 1                     # the first LP stopped at its cap: no step taken
+    with pytest.raises(Stopped):
+        align(form, opening, sliding, exact, x[:form.np], deadline=Deadline.after(-1.0))

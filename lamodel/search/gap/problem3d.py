@@ -19,7 +19,9 @@ along the tangential force); a mechanism's flows ``xi`` are its openings and sli
   those points moving (:func:`~lamodel.search.certify3d.project_mechanism`), polished to
   the least alpha_K for its cohesions (:func:`~lamodel.search.certify3d.polish_mechanism`),
   then the least alpha with the points held: the exact LP on fixed cones
-  (:func:`~lamodel.search.certify3d.statics_lp`) and the held cone program's statics.
+  (:func:`~lamodel.search.certify3d.statics_lp`) and the held cone program's statics;
+  where none holds, the same with the sliding directions aligned
+  (:func:`~lamodel.search.certify3d.align`).
 
 No warm bases: an interior-point program starts cold (``lps`` is empty).
 """
@@ -32,12 +34,12 @@ import numpy as np
 
 from ...formulation.space import Formulation3D, scaled, scales
 from ...structure3d import Structure3D
-from ..certify3d import (CollapseState3D, mechanism_lp, passes, polish_mechanism, project_mechanism, residuals,
+from ..certify3d import (CollapseState3D, align, mechanism_lp, passes, polish_mechanism, project_mechanism, residuals,
                          statics_lp)
 from ..cone import ConePrograms
 from ..options import Deadline
-from ..tuning import (CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE,
-                      WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE)
+from ..tuning import (ALIGN_CAP_ROWS, ALIGN_IPM_CAP, CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS,
+                      CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE, WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE)
 from .program import Scoped
 
 #: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
@@ -70,6 +72,8 @@ class ConeProblem(Scoped):
         self.work_elsewhere = 0      # the cone work of evaluations merged from elsewhere
         self.n_lp = 0                # HiGHS LPs of the certificates
         self._mechanisms = {}        # id(u) -> (u, c): the cohesions u is least-alpha_K for
+        self.align_work = 0.0        # work of the direction alignments' LPs (certify3d.lp_work)
+        self._unaligned = set()      # patterns (opening, sliding) the alignment found no statics for
         self._solved = {}            # (c, allowed) -> the cohesive program's answer, the last few
 
     # ------------------------------------------------------------------ bookkeeping
@@ -83,8 +87,8 @@ class ConeProblem(Scoped):
 
     def work(self):
         """The cone programs' work so far (:attr:`lamodel.search.cone.ConePrograms.work`),
-        merged evaluations included."""
-        return self.cone.work + self.work_elsewhere
+        the direction alignments' LPs counted in the same units, merged evaluations included."""
+        return self.cone.work + self.align_work + self.work_elsewhere
 
     def work_bound(self):
         """WORK_PER_BLOCK_CONE a block, at least WORK_FLOOR_CONE."""
@@ -97,6 +101,7 @@ class ConeProblem(Scoped):
     def restart(self, bases):
         """Forget the programs solved (a pure evaluation depends on its snapshot alone)."""
         self._solved = {}
+        self._unaligned = set()
 
     def save_bases(self, names=None):
         """Nothing to save (see :meth:`bases`)."""
@@ -235,7 +240,8 @@ class ConeProblem(Scoped):
     def certificates(self, u, xi, flow, cap):
         """Held statics for the mechanism u flowing on ``flow`` (see the module doc): at
         each threshold of CONE_FLOW_TOLS, its exact (and polished) motion and the held
-        statics of each candidate sliding direction."""
+        statics of each candidate sliding direction; where none holds, those of the first
+        pattern's sliding directions aligned (:meth:`_aligned`), once a pattern."""
         n = self.np
         q = self.form.strains(u)
         top = np.abs(q).max()
@@ -246,6 +252,7 @@ class ConeProblem(Scoped):
         flow_open, flow_slip = self._split(flow)
         qn, slip = q[:n], np.hypot(q[n:2 * n], q[2 * n:])
         tried = set()
+        first = None  # the first pattern whose exact motion keeps its modes
         for tol in CONE_FLOW_TOLS:
             opening = flow_open & (qn > tol * top)
             sliding = flow_slip & (slip > tol * top) & ~opening
@@ -256,9 +263,50 @@ class ConeProblem(Scoped):
             exact = self._exact_motion(u, opening, sliding, c)
             if exact is None:
                 continue
+            first = first or (opening, sliding, exact)
             held = np.concatenate([opening, sliding])
             for tag, x in self._held_statics(opening, sliding, self._directions(exact)):
                 yield x, exact, np.where(held, self.flows(exact, 0.0), 0.0), held, "+certify-" + tag
+        if first is None or c is None or not first[1].any():
+            return
+        # the alignment's first LP tells in a dozen interior-point iterations that a pattern
+        # has no statics near its directions; the chains meet one pattern again and again
+        # with directions that differ by the conic tolerance: it is not asked twice
+        key = first[0].tobytes() + first[1].tobytes()
+        if key not in self._unaligned:
+            self._unaligned.add(key)
+            for cand in self._aligned(*first, c):
+                self._unaligned.discard(key)   # it gave statics: not a pattern without any
+                yield cand
+
+    def _aligned(self, opening, sliding, exact, c):
+        """The held statics of the sliding directions turned until a statics and a mechanism
+        agree (:func:`~lamodel.search.certify3d.align`), about the normal forces ``-c / mu``
+        the mechanism is least for: the conic slips are off by about the square root of the
+        solver's tolerance, and then no statics holds them. Its LPs count as program solves
+        and their work in :meth:`work`."""
+        self.deadline.check()
+        steps = []
+
+        def tally(work):
+            steps.append(work)
+            self.align_work += work
+
+        N0 = np.where(self.mu > 0, -np.asarray(c, float) / np.where(self.mu > 0, self.mu, 1.0), 0.0)
+        try:
+            got = align(self.form, opening, sliding, exact, N0, deadline=self.deadline, ipm_cap=ALIGN_IPM_CAP,
+                        cap_rows=ALIGN_CAP_ROWS, tally=tally)
+        finally:
+            self.n_lp += len(steps)
+        if self.verbose > 1:
+            print(f"{self.elapsed():8.2f} align: {'aligned' if got is not None else 'none'} after {len(steps)} LPs "
+                  f"(work {sum(steps):.2e})", flush=True)
+        moved = None if got is None else project_mechanism(self.form, got[1], ~(opening | sliding), sliding)
+        if moved is None:
+            return
+        held = np.concatenate([opening, sliding])
+        for tag, x in self._held_statics(opening, sliding, got[0]):
+            yield x, moved, np.where(held, self.flows(moved, 0.0), 0.0), held, "+align-" + tag
 
     def _exact_motion(self, u, opening, sliding, c):
         """The nearest exact motion with only ``opening`` and ``sliding`` points moving
