@@ -192,11 +192,6 @@ class Starts:
         certified state (or None)."""
         if self._from_zero is None:
             t = time.perf_counter()
-            # the cohesive LP cold: its statics is degenerate (many optima), the chain's next
-            # cohesions are the one HiGHS returns, and from a basis the search left the chain
-            # went elsewhere (20 x 25 running bond at mu = 1.0: nothing certified in 60 steps
-            # after the continuations; cold: 0.559060 at step 27)
-            self.problem.load_bases({name: None for name in self.problem.save_bases(("coh",))})
             try:
                 with self.problem.until(self.bounded()):
                     self._from_zero = (fallback(self, (), from_zero=True, source="zero-cohesion", until=self._spent),)
