@@ -85,11 +85,12 @@ def chain(engine, x, weight):
             return
         st = engine.certifier.certify(u, xi, "chain")
         moving = np.linalg.norm(u.reshape(-1, 6), axis=1)
+        c_new = (1.0 - weight) * c + weight * (-p.mu * p.cohesive_N(xc))
+        change = np.abs(c_new - c).max() / max(np.abs(c).max(), 1e-300)
         print(f"    step {step}: alpha_as {a:.6f}, opening {int((xi[:n] > 0).sum())}, sliding "
               f"{int((xi[n:] > 0).sum())}, blocks moving {int((moving > 1e-3 * moving.max()).sum())}, "
-              f"certified {'-' if st is None else f'{st.alpha:.6f}'}", flush=True)
-        c_new = (1.0 - weight) * c + weight * (-p.mu * p.cohesive_N(xc))
-        if np.allclose(c_new, c, rtol=1e-9, atol=1e-12):
+              f"certified {'-' if st is None else f'{st.alpha:.6f}'}, cohesions change {change:.1e}", flush=True)
+        if change <= 1e-6:
             print("    a fixed point")
             return
         c = c_new
