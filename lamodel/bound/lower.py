@@ -20,16 +20,17 @@ from ..structure3d import Structure3D
 PROVEN_TOL = 1e-6
 #: The default bound is the root's rounds to their fixed point: they end when a round
 #: raises nothing (each round: one cohesive LP, then one Nmin LP per contact its mechanism
-#: slides on). That proves the seed's arch, portal and portal_columns (116, 95, 92 LPs,
-#: 0.2-0.5 s of CPU against a 3-4 s search) and costs 4 LPs on wall33 (0.01 s, the search
-#: 0.4 s) and 17 on wall55 (0.06 s, the search 1 s), where the branching proves nothing
+#: slides on; the screen of branch.py first). That proves the seed's arch, portal and
+#: portal_columns (119, 98, 95 LPs, 0.2-0.5 s of CPU) and costs 4 LPs on wall33 and 3 on
+#: wall55 (0.01-0.02 s, idle), where the branching proves nothing
 #: in 500 LPs nor in 48,000 (benchmarks/lower_bound.py; measured under load). The
 #: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
 #: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
 #: on any machine; the arches and portals take at most 8) and SHARE of the search's own
 #: seconds, at least FLOOR_SECONDS: on a 1,020-block running-bond wall the root's 50 Nmin
-#: LPs (0.5 s each) proved 0 in 28 s after a 75 s search; the guard keeps the bound's cost
-#: a quarter of the search's at most, in the plane and in space.
+#: LPs (0.5 s each) proved 0 in 28 s after a 75 s search (the screen now decides it in 3
+#: LPs, 2.8 s); the guard keeps the bound's cost a quarter of the search's at most, in
+#: the plane and in space.
 LPS_PER_CONTACT, FLOOR_SECONDS, SHARE = 16, 2.0, 0.25
 #: In space a block on three or more contact points can rest on any three of them, so at
 #: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
