@@ -242,17 +242,18 @@ _UNKNOWN = object()  # explain_unstable not asked yet
 
 
 def _check_resolution(structure):
-    """Refuse a structure with blocks too light beside the others for double precision
-    (:func:`lamodel.search.certify.unresolved_blocks`): no certificate could hold them."""
-    from ..search.certify import LOAD_RESOLUTION, unresolved_blocks
+    """Refuse a structure with blocks too small beside the whole for double-precision
+    geometry (:func:`lamodel.search.certify.unresolved_blocks`): no certificate could
+    place their contacts."""
+    from ..search.certify import SIZE_RESOLUTION, unresolved_blocks
     small = unresolved_blocks(structure)
     if small:
         shown = ", ".join(f"'{b}'" for b in small[:5]) + (f" and {len(small) - 5} more" if len(small) > 5 else "")
-        raise InputError(f"{structure.name}: block{'s' if len(small) > 1 else ''} {shown} carr"
-                         f"{'y' if len(small) > 1 else 'ies'} loads below {LOAD_RESOLUTION:g} times the largest "
-                         "block's, beyond what double precision can resolve: no collapse state can be certified for "
-                         "them; expected blocks whose weights differ by less than that (or the light blocks analysed "
-                         "on their own)")
+        raise InputError(f"{structure.name}: block{'s' if len(small) > 1 else ''} {shown} "
+                         f"{'are' if len(small) > 1 else 'is'} smaller than {SIZE_RESOLUTION:g} times the "
+                         f"structure's size, beyond what double precision can resolve: {'their' if len(small) > 1 else 'its'} contacts cannot be placed "
+                         "accurately enough to certify a collapse state; expected blocks at least that large (or the "
+                         "small blocks analysed on their own)")
 
 
 def _study_progress(echo):

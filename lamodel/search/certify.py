@@ -19,12 +19,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..formulation.scaling import block_sizes
 from .lp import LimitLPs
 from .state import CollapseState
-from .tuning import ACTIVE_TOLERANCES, FLOW_TOL, IMPROVEMENT, LOAD_RESOLUTION, RESIDUAL_TOLERANCE
+from .tuning import ACTIVE_TOLERANCES, FLOW_TOL, IMPROVEMENT, RESIDUAL_TOLERANCE, SIZE_RESOLUTION
 
 __all__ = ["ACTIVE_TOLERANCES", "RESIDUAL_TOLERANCE", "certify", "certify_flow", "descend", "force_scale",
-           "residuals", "block_sizes", "unresolved_blocks", "LOAD_RESOLUTION"]
+           "residuals", "block_sizes", "unresolved_blocks", "SIZE_RESOLUTION"]
 
 
 def force_scale(lps: LimitLPs) -> float:
@@ -32,28 +33,14 @@ def force_scale(lps: LimitLPs) -> float:
     return float(max(np.abs(lps.f0).max(), np.abs(lps.fbar).max(), 1e-300))
 
 
-def block_sizes(structure) -> np.ndarray:
-    """A length per block: the farthest reach of its contacts from its centroid (centre
-    distance plus half-length), so that a moment on the block becomes a force there."""
-    ia, ib = structure.contact_blocks()
-    size = np.zeros(structure.n_blocks)
-    for idx in (ia, ib):
-        on = idx >= 0
-        reach = np.hypot(*(structure.centre[on] - structure.centroid[idx[on]]).T) + structure.d[on]
-        np.maximum.at(size, idx[on], reach)
-    return np.where(size > 0, size, structure.size())
-
-
 def unresolved_blocks(structure) -> list:
-    """The blocks whose loads (dead or live, moments by the block's own size) are below
-    :data:`LOAD_RESOLUTION` times the largest block load: no state can be certified for
-    them in double precision. Blocks without any load are not counted (their equilibrium
-    is measured against the contact forces on them)."""
-    L = block_sizes(structure)
-    own = np.maximum.reduce([np.abs(structure.dead).max(axis=1), np.abs(structure.live).max(axis=1),
-                             np.abs(structure.dead_m) / L, np.abs(structure.live_m) / L])
-    top = own.max() if own.size else 0.0
-    return [b for b, w in zip(structure.blocks, own) if 0 < w < LOAD_RESOLUTION * top]
+    """The blocks smaller than :data:`SIZE_RESOLUTION` times the structure's size (by
+    :func:`~lamodel.formulation.scaling.block_sizes`): double-precision geometry cannot
+    place their contacts to the accuracy a certificate needs. However light a block is
+    beside the others, its loads are resolved (the LPs scale light blocks:
+    :func:`~lamodel.formulation.scaling.light_scales`)."""
+    size = block_sizes(structure)
+    return [b for b, w in zip(structure.blocks, size) if w < SIZE_RESOLUTION * structure.size()]
 
 
 def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:

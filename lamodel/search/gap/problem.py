@@ -11,7 +11,11 @@ cohesive LP and its mechanism, and the way back to the user's units.
   least alpha_K for that N, recomputed exactly from HiGHS's final basis.
 
 Numbers are non-dimensional (:mod:`lamodel.formulation.scaling`); :meth:`ScaledProblem.to_user`
-takes a state back to the user's units, re-checked there.
+takes a state back to the user's units, re-checked there. A light block's equilibrium rows
+and its contacts' columns are scaled further (:func:`~lamodel.formulation.scaling.light_scales`):
+the LPs' columns, and so every statics ``x`` of this class, are lambdas in units of their
+contact's scale; forces, normal forces, slacks in those units, and mechanisms, come out in
+the non-dimensional units.
 """
 from __future__ import annotations
 
@@ -21,13 +25,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...formulation.matrices import Formulation, cohesive_matrix, generator_matrix, held_generators
-from ...formulation.scaling import scaled, scales
+from ...formulation.scaling import light_scales, scaled, scales
 from ...structure import Structure
 from ..certify import residuals
 from ..highs import INF, HighsLP
 from ..options import Deadline
 from ..state import CollapseState
-from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
+from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LIGHT_BLOCK, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
 from .program import CAPPED, Scoped
 
 
@@ -63,9 +67,14 @@ class ScaledProblem(Scoped):
         self.user_form = Formulation.of(structure)
         self.A, self.f0, self.fbar, self.Y, self.G = self.form.A, self.form.f0, self.form.fbar, self.form.Y, self.form.G
         self.mu = s.mu
+        # light blocks: their equilibrium rows times R, their contacts' forces in units of C
+        self.R, self.C = light_scales(s, LIGHT_BLOCK)
+        self.row_scale = np.tile(self.C, 4)  # a yield row's slack, and its flow's force, in its contact's units
+        R = sp.diags(self.R)
         # --- statics in generator form: columns lambda (4 nc), alpha
-        self.T = generator_matrix(s)
-        self.Slam = (-(self.Y @ self.T)).tocsr()  # yield slacks = Slam @ lambda (>= 0)
+        T_unit = generator_matrix(s)
+        self.T = T_unit @ sp.diags(np.repeat(self.C, 4))  # lambdas in their contact's units
+        self.Slam = (-(self.Y @ T_unit)).tocsr()  # yield slacks = Slam @ lambda (>= 0), in the contact's units
         assert self.Slam.min() >= 0
         self.held_lams = held_generators(nc)
         self.Slam.sort_indices()
@@ -75,14 +84,14 @@ class ScaledProblem(Scoped):
                                                                      self.held_lams[on])
         rows = np.repeat(np.arange(4 * nc), 2)
         self.row_of_pair = sp.csr_matrix((np.ones(8 * nc), (rows, self.held_lams.ravel())), shape=self.Slam.shape)
-        Ag = sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)]).tocsc()
+        Ag = (R @ sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)])).tocsc()
         self.nl = 4 * nc
         lo = np.zeros(self.nl + 1)
         hi = np.full(self.nl + 1, INF)
-        self.stat = HighsLP(Ag, -self.f0, np.zeros(self.nl + 1), lo, hi, "statics")
+        self.stat = HighsLP(Ag, -self.R * self.f0, np.zeros(self.nl + 1), lo, hi, "statics")
         # --- fictitious cohesive LP: columns (n1, n2, V) per contact, alpha
-        self.Tc = cohesive_matrix(s)
-        Ac = sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)]).tocsc()
+        self.Tc = cohesive_matrix(s) @ sp.diags(np.repeat(self.C, 3))
+        Ac = (R @ sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)])).tocsc()
         # Flow rows of the cohesive system in its own columns: one nonzero per row.
         self.Gc = (self.G @ self.Tc).tocsr()
         self.Gc.eliminate_zeros()
@@ -94,10 +103,10 @@ class ScaledProblem(Scoped):
         cost[-1] = -self.obj_scale
         clo = np.zeros(3 * nc + 1)
         chi = np.full(3 * nc + 1, INF)
-        self.coh = HighsLP(Ac, -self.f0, cost, clo, chi, "cohesive")
+        self.coh = HighsLP(Ac, -self.R * self.f0, cost, clo, chi, "cohesive")
         # Restricted mechanisms (flow allowed on some rows only) get their own copy: switching
         # one LP between the two kinds cost 10-17 s a re-solve at 2040 blocks.
-        self.coh_r = HighsLP(Ac, -self.f0, cost, clo, chi, "cohesive-r")
+        self.coh_r = HighsLP(Ac, -self.R * self.f0, cost, clo, chi, "cohesive-r")
         self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}  # (snapshots name them)
         if verbose > 1:
             for lp in self.lps.values():
@@ -179,7 +188,8 @@ class ScaledProblem(Scoped):
         return out
 
     def slack(self, lam):
-        """The yield slacks (4 nc, >= 0) of a statics in generator form."""
+        """The yield slacks (4 nc, >= 0) of a statics in generator form, each in its
+        contact's units (a light block's contacts in theirs)."""
         return self.Slam @ lam[:self.nl]
 
     def active_rows(self, lam, tol):
@@ -188,7 +198,7 @@ class ScaledProblem(Scoped):
 
     def gap_weights(self, xi, u=None):
         """w with w^T lambda = alpha_K(N(lambda)) - alpha = slack^T xi (virtual work)."""
-        return self.Slam.T @ xi
+        return self.Slam.T @ (self.row_scale * xi)
 
     def gap(self, x, xi, u=None):
         """alpha_K - alpha of the statics x for the mechanism's flows xi (eq. 5)."""
@@ -205,7 +215,7 @@ class ScaledProblem(Scoped):
         c = np.maximum(np.asarray(c, float), 0.0)
         lo = np.zeros(3 * nc + 1)
         hi = np.full(3 * nc + 1, INF)
-        lo[2::3][:nc], hi[2::3][:nc] = -c, c
+        lo[2::3][:nc], hi[2::3][:nc] = -c / self.C, c / self.C
         if allowed is not None:
             # a row that may not flow is a constraint dropped from the primal
             off = np.flatnonzero(~np.asarray(allowed, bool))
@@ -223,7 +233,7 @@ class ScaledProblem(Scoped):
             return status, np.nan, None, None, None
         x = lp.x()
         y, z = lp.exact_duals()
-        u = -y / self.obj_scale
+        u = -self.R * y / self.obj_scale
         fu = self.fbar @ u
         if not fu > 0:
             return "degenerate", np.nan, None, None, None
@@ -233,8 +243,9 @@ class ScaledProblem(Scoped):
         xi = np.maximum(-z[self.gc_col] / self.gc_val, 0.0)
         if allowed is not None:
             xi[~allowed] = 0.0
-        top = xi.max() if xi.size else 0.0
-        xi[xi <= FLOW_TOL * top] = 0.0
+        work = xi * self.row_scale  # flows against their contacts' forces: comparable
+        top = work.max() if work.size else 0.0
+        xi[work <= FLOW_TOL * top] = 0.0
         return status, float(x[-1]), x, u, xi
 
     # ------------------------------------------------------------- certification
