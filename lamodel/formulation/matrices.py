@@ -92,7 +92,7 @@ def flow_matrix(s: Structure) -> sp.csr_matrix:
     return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
 
 
-def generator_matrix(structure: Structure) -> sp.csr_matrix:
+def generator_matrix(structure: Structure, friction=None) -> sp.csr_matrix:
     """T (3 nc x 4 nc): the four friction-cone generators of a contact as (N, V, M).
 
     Generator ``(j, +/-)`` is the unit-compression force ``-n +/- mu t`` at end point j of
@@ -100,10 +100,12 @@ def generator_matrix(structure: Structure) -> sp.csr_matrix:
     it is ``N = -1``, ``V = +/- mu`` and the couple ``(+/- d t) x (-n) = +/- d``. Columns
     are ordered 1+, 1-, 2+, 2- contact after contact. With it, the admissible set of
     eq. (1)-(4) is ``A T lambda + alpha fbar = -f0`` with lambda >= 0 (every (N, V, M) of
-    the cone is such a combination and vice versa).
+    the cone is such a combination and vice versa). ``friction`` (one a contact) replaces
+    mu: the cone of another friction coefficient (:func:`dilatant_flows`).
     """
     nc = structure.n_contacts
-    mu, d = structure.mu, structure.d
+    mu = structure.mu if friction is None else np.broadcast_to(np.asarray(friction, float), (nc,))
+    d = structure.d
     k = np.arange(nc)
     rows, cols, vals = [], [], []
     for g, (sv, sm) in enumerate(((1, 1), (-1, 1), (1, -1), (-1, -1))):
@@ -128,6 +130,31 @@ def cohesive_matrix(structure: Structure) -> sp.csr_matrix:
     cols = [3 * k, 3 * k, 3 * k + 1, 3 * k + 1, 3 * k + 2]
     vals = [-np.ones(nc), d, -np.ones(nc), -d, np.ones(nc)]
     return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * nc, 3 * nc))
+
+
+def shear_matrix(structure: Structure) -> sp.csr_matrix:
+    """(3 nc x nc): a cohesive shear V per contact as (N, V, M)."""
+    nc = structure.n_contacts
+    return sp.csr_matrix((np.ones(nc), (nc + np.arange(nc), np.arange(nc))), shape=(3 * nc, nc))
+
+
+def dilatant_flows(structure: Structure, q: np.ndarray, dilatancy: float) -> np.ndarray:
+    """The flows xi (4 nc) of contact strains ``q = (opening, slip, rotation)`` (3 nc) in the
+    fictitious system of dilatancy t = ``dilatancy``.
+
+    That system's yield rows are ``t mu N +/- V <= c`` and the hinge rows of eq. (4), with
+    associative flow: a slip s opens the contact by ``t mu |s|``. At t = 1 (c = 0) it is
+    the associative system, at t = 0 the seed's cohesive one (:func:`flow_matrix`). With
+    ``c = -(1 - t) mu N`` of a statics of S its rows have the slacks of eq. (4), so
+    ``alpha_K - alpha = xi^T slack`` holds at every t (the gap of eq. 5). From
+    ``q = G_t^T xi``: ``xi_slide+- = max(+-slip, 0)``; what is left of the opening,
+    ``r = opening - t mu |slip|``, and the rotation give the hinge flows
+    ``xi_hinge+- = (r / d -+ rotation) / 2``.
+    """
+    nc = structure.n_contacts
+    qn, qv, qm = q[:nc], q[nc:2 * nc], q[2 * nc:]
+    rest = (qn - dilatancy * structure.mu * np.abs(qv)) / structure.d
+    return np.maximum(np.concatenate([qv, -qv, (rest - qm) / 2, (rest + qm) / 2]), 0.0)
 
 
 def held_generators(nc: int) -> np.ndarray:

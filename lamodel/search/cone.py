@@ -120,12 +120,13 @@ class ConePrograms:
         return self._solve(cost, self.E, -self.form.f0, self._nonneg(), self._soc_N + self._soc_T,
                            np.zeros(3 * self.np), self.np, time_limit)
 
-    def cohesive(self, c, may_open=None, may_slip=None, time_limit=None) -> ConeResult:
+    def cohesive(self, c, may_open=None, may_slip=None, time_limit=None, dilatancy=0.0) -> ConeResult:
         """alpha_as(c): max alpha with ||T_p|| <= c_p and N_p <= 0; u is its mechanism.
 
         ``may_open`` / ``may_slip`` (bool, np) restrict the mechanism: a point that may not
         open has its N free (the dual then gives it no opening), one that may not slip its
-        T free (no slip)."""
+        T free (no slip). ``dilatancy`` t: ``||T_p|| <= c_p - t mu N_p`` (the cone of
+        friction t mu widened by the cohesion), whose mechanism's slips dilate by t mu."""
         n = self.np
         c = np.maximum(np.asarray(c, float), 0.0)
         cost = np.zeros(self.nx)
@@ -134,7 +135,8 @@ class ConePrograms:
         b = np.zeros(3 * n)
         b[0::3] = c
         keep = np.flatnonzero(np.repeat(slip, 3))
-        return self._solve(cost, self.E, -self.form.f0, self._nonneg(may_open), self._soc_T[keep], b[keep],
+        soc = self._soc_T if dilatancy == 0 else self._soc_T + dilatancy * self._soc_N
+        return self._solve(cost, self.E, -self.form.f0, self._nonneg(may_open), soc[keep], b[keep],
                            int(slip.sum()), time_limit)
 
     def statics(self, w=None, opening=None, sliding=None, slide_dir=None, time_limit=None) -> ConeResult:

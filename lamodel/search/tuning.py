@@ -119,6 +119,21 @@ STABLE_ALPHA = 1e-9
 #: 0.617364 at step 6, then a fixed point at 0.645963). benchmarks/families.py shows the
 #: path that certified each case.
 FALLBACK_STEPS, FALLBACK_PATIENCE = 60, 8
+#: The dilatancy continuation (Starts.dilatancy): the fictitious systems whose sliding
+#: dilates by t mu, from t = 1 (the associative system: its optimum is a collapse state)
+#: down to the seed's t = 0, the gap alternation tracking the statics at each t, steps of
+#: 0.1. Measured (4, 9 and 19 steps): wall55, a multi-leaf section at mu = 0.9 and running-
+#: bond walls of 48-105 blocks at mu 0.9-1.0 end at the same alpha with each; the 510-block
+#: running-bond wall at mu = 1.0 is certified at 0.568109 with 9 steps only (4 and 19 end
+#: at t = 0 without a certificate), where every other start of the search certifies at
+#: best 0.816327 (the default run: 0.568109 now). The quick families keep every alpha;
+#: their LP solves grow by 6 % (10,610 to 11,232).
+DILATANCY_STEPS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1)
+#: Mechanism/gap steps a rho at each t of the continuation (a path to follow, not an
+#: optimum to reach): in space a t took up to 65 steps of about 2 s on the Armadillo vault
+#: without a cap, where alpha moved by 1e-6 a step; the planar walls take 5-13 (their
+#: alphas are the same with this cap).
+DILATANCY_TRACK = 10
 #: The seed's fixed-point chain has converged when the cohesions repeat to these (relative,
 #: absolute) tolerances: round-off margins.
 CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12

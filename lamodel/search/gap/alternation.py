@@ -12,6 +12,10 @@
   without them.
 
 Whenever the gap is small the mechanism is certified and the certified state descended.
+With a dilatancy t > 0 (:meth:`~.starts.Starts.dilatancy`) the mechanism step is that of
+the fictitious system whose sliding dilates by t mu, cohesions ``-(1 - t) mu N``; the gap
+is the same ``slack^T xi`` (:func:`~lamodel.formulation.matrices.dilatant_flows`), and
+nothing is certified or held: that system's collapse states are not the real one's.
 """
 from __future__ import annotations
 
@@ -34,12 +38,14 @@ class Alternation:
     def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, record: Record):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
 
-    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=ALTERNATION_MAX_STEPS, forbid_slack=False):
+    def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=ALTERNATION_MAX_STEPS, forbid_slack=False,
+                  dilatancy=0.0):
         """Mechanism step / gap step from the statics x until alpha + rho gap stops falling.
 
-        Certifies whenever the gap is small; returns the best certified state of the run
-        (or None) and the last statics.
+        Certifies whenever the gap is small (``dilatancy`` 0: the seed's system); returns
+        the best certified state of the run (or None) and the last statics.
         """
+        real = dilatancy == 0
         p = self.problem
         t = time.perf_counter()
         best = None
@@ -54,12 +60,12 @@ class Alternation:
                     allowed = None
                     if forbid_slack:
                         allowed = p.active_rows(x, FORBID_ACTIVE)
-                    status, a_as, _, u, xi = p.mechanism(-p.mu * N, allowed)
+                    status, a_as, _, u, xi = p.mechanism(-(1.0 - dilatancy) * p.mu * N, allowed, dilatancy=dilatancy)
                     if status != "optimal":
                         break
                     gap = p.gap(x, xi, u)
                     tight = p.active_rows(x, ACTIVE_TOLERANCES[0])
-                    slack_flow = (xi > 0) & ~tight
+                    slack_flow = (xi > 0) & ~tight & real
                     self._near(u, xi, tight, slack_flow, source, found)
                     if slack_flow.any() and gap <= GAP_HOLD * max(1.0, alpha) and not forbid_slack:
                         # Hold step. Near convergence the least-alpha_K mechanism flows, a
@@ -89,11 +95,11 @@ class Alternation:
                     step_gap = p.gap(x, xi, u)
                     if p.verbose > 1:
                         rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
-                        print(f"{p.elapsed():8.2f}   rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
+                        print(f"{p.elapsed():8.2f}   t {dilatancy:g} rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
                               f"{step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})", flush=True)
                     # With flows left on slack rows the certification's first LP (min gap of
                     # this mechanism, capped) decides whether a statics can hold them all.
-                    if step_gap <= GAP_CERTIFY * max(1.0, alpha):
+                    if real and step_gap <= GAP_CERTIFY * max(1.0, alpha):
                         key = (xi > 0).tobytes()
                         if key != last_cert_key:
                             last_cert_key = key

@@ -24,7 +24,8 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from ...formulation.matrices import Formulation, cohesive_matrix, generator_matrix, held_generators
+from ...formulation.matrices import (Formulation, cohesive_matrix, dilatant_flows, generator_matrix, held_generators,
+                                     shear_matrix)
 from ...formulation.scaling import light_scales, scaled, scales
 from ...structure import Structure
 from ..certify import residuals
@@ -113,6 +114,8 @@ class ScaledProblem(Scoped):
                 lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
         self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see Fitness.merge)
         self.work_elsewhere = 0  # and their work
+        self.dilatant = None  # (t, HighsLP): the cohesive LP of dilatancy t (see mechanism)
+        self.dilatant_done = [0, 0]  # solves and work of the dilatant LPs of other t
 
     # ------------------------------------------------------------------ bookkeeping
     def elapsed(self):
@@ -120,12 +123,15 @@ class ScaledProblem(Scoped):
 
     def n_lps(self):
         """LP solves so far, those of evaluations merged from elsewhere included."""
-        return sum(lp.n_solves for lp in self.lps.values()) + self.lps_elsewhere
+        return sum(lp.n_solves for lp in self._all_lps()) + self.lps_elsewhere + self.dilatant_done[0]
+
+    def _all_lps(self):
+        return list(self.lps.values()) + ([self.dilatant[1]] if self.dilatant is not None else [])
 
     def work(self):
         """The LP work so far (:attr:`lamodel.search.highs.HighsLP.work`), merged evaluations
         included."""
-        return sum(lp.work for lp in self.lps.values()) + self.work_elsewhere
+        return sum(lp.work for lp in self._all_lps()) + self.work_elsewhere + self.dilatant_done[1]
 
     def work_bound(self):
         """WORK_PER_BLOCK a block (about a minute per thousand blocks)."""
@@ -205,12 +211,16 @@ class ScaledProblem(Scoped):
         return float(self.gap_weights(xi) @ x[:self.nl])
 
     # ----------------------------------------------------------------- mechanism
-    def mechanism(self, c, allowed=None):
+    def mechanism(self, c, allowed=None, dilatancy=0.0):
         """The cohesive LP for cohesions c (>= 0), flow allowed on rows ``allowed`` only.
 
         Returns (status, alpha_as, x, u, xi): its statics x (n1, n2, V, alpha) and its
         mechanism (u, xi) of least alpha_K, exact from the final basis, fbar^T u = 1.
+        ``dilatancy`` t > 0: the fictitious system whose sliding also dilates, friction
+        t mu besides the cohesions (:meth:`_dilatant`; every row may flow).
         """
+        if dilatancy > 0:
+            return self._dilatant(c, dilatancy)
         nc = self.nc
         c = np.maximum(np.asarray(c, float), 0.0)
         lo = np.zeros(3 * nc + 1)
@@ -227,26 +237,78 @@ class ScaledProblem(Scoped):
         if lp.cold and not self.coh.cold:
             lp.h.setBasis(self.coh.h.getBasis())  # start from the unrestricted one's basis
             lp.cold = False
-        lp.set_bounds(lo, hi)
-        status = lp.solve(deadline=self.deadline)
+        status, u, z = self._motion(lp, lo, hi)
         if status != "optimal":
             return status, np.nan, None, None, None
-        x = lp.x()
-        y, z = lp.exact_duals()
-        u = -self.R * y / self.obj_scale
-        fu = self.fbar @ u
-        if not fu > 0:
-            return "degenerate", np.nan, None, None, None
-        u = u / fu
-        z = z / (self.obj_scale * fu)
         # compatibility in the cohesive columns: Gc^T xi = -(A Tc)^T u = -z on the (n, V) columns
         xi = np.maximum(-z[self.gc_col] / self.gc_val, 0.0)
         if allowed is not None:
             xi[~allowed] = 0.0
-        work = xi * self.row_scale  # flows against their contacts' forces: comparable
-        top = work.max() if work.size else 0.0
-        xi[work <= FLOW_TOL * top] = 0.0
-        return status, float(x[-1]), x, u, xi
+        x = lp.x()
+        return status, float(x[-1]), x, u, self._significant(xi)
+
+    def _motion(self, lp, lo, hi):
+        """A cohesive LP solved with column bounds (lo, hi): (status, u, z), the mechanism
+        u from its exact row duals (``fbar^T u = 1``) and the reduced costs z in the same
+        normalisation ('degenerate' where the duals move no live load)."""
+        lp.set_bounds(lo, hi)
+        status = lp.solve(deadline=self.deadline)
+        if status != "optimal":
+            return status, None, None
+        y, z = lp.exact_duals()
+        u = -self.R * y / self.obj_scale
+        fu = self.fbar @ u
+        if not fu > 0:
+            return "degenerate", None, None
+        return status, u / fu, z / (self.obj_scale * fu)
+
+    def _significant(self, xi):
+        """xi without the flows below FLOW_TOL of the largest, each measured against its
+        contact's forces (a light block's in its own units)."""
+        work = xi * self.row_scale
+        xi[work <= FLOW_TOL * (work.max() if work.size else 0.0)] = 0.0
+        return xi
+
+    def _dilatant(self, c, t):
+        """The cohesive LP of dilatancy t: per contact the four generators of the cone of
+        friction t mu and a cohesive shear within +-c (columns in the contact's units), max
+        alpha. Its mechanism's flows follow that system's flow rule
+        (:func:`~lamodel.formulation.matrices.dilatant_flows`). One LP per t, warm from the
+        last t's basis, the first from the statics LP's (at t = 1 and c = 0 it is the
+        associative LP)."""
+        nc = self.nc
+        if self.dilatant is None or self.dilatant[0] != t:
+            cols = sp.diags(np.concatenate([np.repeat(self.C, 4), self.C]))
+            A = sp.hstack([self.A @ sp.hstack([generator_matrix(self.s, t * self.mu), shear_matrix(self.s)]) @ cols,
+                           self.fbar.reshape(-1, 1)])
+            n = 5 * nc + 1
+            cost = np.zeros(n)
+            cost[-1] = -self.obj_scale
+            lp = HighsLP((sp.diags(self.R) @ A).tocsc(), -self.R * self.f0, cost, np.zeros(n), np.full(n, INF),
+                         "dilatant")
+            if self.dilatant is not None:
+                old = self.dilatant[1]
+                basis = old.portable_basis()
+                self.dilatant_done = [self.dilatant_done[0] + old.n_solves, self.dilatant_done[1] + old.work]
+            else:  # the statics LP's columns, the shears nonbasic at their bound
+                basis = self.stat.portable_basis()
+                if basis is not None:
+                    lower = np.zeros(nc, np.int8)  # HiGHS's kLower
+                    basis = (np.concatenate([basis[0][:self.nl], lower, basis[0][self.nl:]]), basis[1])
+            if basis is not None:
+                lp.restart(basis)
+            if self.verbose > 1:
+                lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
+            self.dilatant = (t, lp)
+        lp = self.dilatant[1]
+        c = np.maximum(np.asarray(c, float), 0.0) / self.C
+        lo = np.zeros(5 * nc + 1)
+        hi = np.full(5 * nc + 1, INF)
+        lo[4 * nc:5 * nc], hi[4 * nc:5 * nc] = -c, c
+        status, u, _ = self._motion(lp, lo, hi)
+        if status != "optimal":
+            return status, np.nan, None, None, None
+        return status, float(lp.x()[-1]), None, u, self._significant(dilatant_flows(self.s, -(self.A.T @ u), t))
 
     # ------------------------------------------------------------- certification
     def iteration_cap(self):

@@ -72,6 +72,7 @@ class ConeProblem(Scoped):
         self.work_elsewhere = 0      # the cone work of evaluations merged from elsewhere
         self.n_lp = 0                # HiGHS LPs of the certificates
         self._mechanisms = {}        # id(u) -> (u, c): the cohesions u is least-alpha_K for
+        self._dilatant = {}          # id(u) -> (u, t): mechanisms of the system of dilatancy t > 0
         self.align_work = 0.0        # work of the direction alignments' LPs (certify3d.lp_work)
         self._unaligned = set()      # patterns (opening, sliding) the alignment found no statics for
         self._solved = {}            # (c, allowed) -> the cohesive program's answer, the last few
@@ -173,9 +174,10 @@ class ConeProblem(Scoped):
 
     def gap_weights(self, xi, u=None):
         """w (3 np) with ``w^T x = alpha_K - alpha`` for the mechanism u, at the points xi
-        flows at (openings of a conic mechanism are >= 0 up to its tolerance)."""
+        flows at (openings of a conic mechanism are >= 0 up to its tolerance; a mechanism of
+        dilatancy t without the opening t mu ||slip|| its slips cause: the same gap)."""
         n = self.np
-        q = self.form.strains(u)
+        q = self._strains(u)
         q[:n] = np.maximum(q[:n], 0.0)
         moving = np.tile(xi[:n] + xi[n:] > 0, 3)
         return self.form.gap_weights(np.where(moving, q, 0.0))
@@ -185,37 +187,52 @@ class ConeProblem(Scoped):
         return float(self.gap_weights(xi, u) @ x[:3 * self.np])
 
     # -------------------------------------------------------------------- mechanism
+    def _strains(self, u):
+        """The strains of u; for a mechanism of dilatancy t (:meth:`mechanism`), the
+        openings less the dilatancy t mu ||slip|| of its slips."""
+        q = self.form.strains(u)
+        entry = self._dilatant.get(id(u))
+        if entry is not None and entry[0] is u:
+            n = self.np
+            q[:n] -= entry[1] * self.mu * np.hypot(q[n:2 * n], q[2 * n:])
+        return q
+
     def flows(self, u, tol=CONE_FLOW_TOLS[0]):
         """xi (2 np) of the motion u: openings where a point opens, slips where it slides
         without opening; motions below ``tol`` of the largest strain are none."""
         n = self.np
-        q = self.form.strains(u)
+        q = self._strains(u)
         top = np.abs(q).max() if q.size else 0.0
         qn, slip = q[:n], np.hypot(q[n:2 * n], q[2 * n:])
         opening = qn > tol * top
         sliding = (slip > tol * top) & ~opening
         return np.concatenate([np.where(opening, qn, 0.0), np.where(sliding, slip, 0.0)])
 
-    def mechanism(self, c, allowed=None):
+    def mechanism(self, c, allowed=None, dilatancy=0.0):
         """The cohesive program for cohesions c (>= 0), flow allowed on rows ``allowed``
-        only: (status, alpha_as, statics, u, xi), ``fbar^T u = 1``."""
+        only: (status, alpha_as, statics, u, xi), ``fbar^T u = 1``. ``dilatancy`` t > 0:
+        the system whose slips dilate by t mu, friction t mu besides the cohesions."""
         c = np.maximum(np.asarray(c, float), 0.0)
         may_open = may_slip = None
         if allowed is not None:
             may_open, may_slip = self._split(allowed)
         # the same program again (a descent's two tolerances, the chain's first step after
         # a mechanism step): its answer, not another interior-point solve of seconds
-        key = c.tobytes() + (b"" if allowed is None else np.asarray(allowed, bool).tobytes())
+        key = c.tobytes() + (b"" if allowed is None else np.asarray(allowed, bool).tobytes()) + bytes(
+            np.float64(dilatancy))
         res = self._solved.get(key)
         if res is None:
-            res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left()),
-                            "cohesive" if allowed is None else "cohesive-r")
+            res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left(),
+                                               dilatancy=dilatancy), "cohesive" if allowed is None else "cohesive-r")
             self._solved = {key: res} | dict(list(self._solved.items())[:_REMEMBERED - 1])
         if not res.ok:
             return res.status, np.nan, None, None, None
         if res.u is None:
             return "degenerate", np.nan, None, None, None
         u = res.u
+        if dilatancy > 0:
+            u = u.copy()  # its own object: gap weights and flows look up its dilatancy by identity
+            self._dilatant = {id(u): (u, dilatancy)} | dict(list(self._dilatant.items())[-(_REMEMBERED - 1):])
         xi = self.flows(u)
         if allowed is not None:
             xi[~np.asarray(allowed, bool)] = 0.0

@@ -117,9 +117,13 @@ class GapProgram(Protocol):
         """The gap ``alpha_K - alpha`` of statics x for the mechanism (u, xi)."""
 
     # --------------------------------------------------------------- mechanism
-    def mechanism(self, c, allowed=None):
+    def mechanism(self, c, allowed=None, dilatancy=0.0):
         """The fictitious cohesive system for cohesions c, flow allowed on rows ``allowed``
-        only: (status, alpha_as, its statics xc, u, xi), the mechanism of least alpha_K."""
+        only: (status, alpha_as, its statics xc, u, xi), the mechanism of least alpha_K.
+        ``dilatancy`` t > 0: the system whose sliding dilates by t mu (friction t mu besides
+        the cohesions; t = 1, c = 0 is the associative system), every row allowed; its xi
+        are such that ``gap(x, xi, u) = alpha_K - alpha`` still (the dilatancy
+        continuation, :meth:`~.starts.Starts.dilatancy`)."""
 
     # ----------------------------------------------------------- certification
     def iteration_cap(self) -> int | None:

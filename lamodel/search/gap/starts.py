@@ -22,8 +22,8 @@ import numpy as np
 
 from ..highs import INF
 from ..options import Deadline, Stopped
-from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RELAXATION, CHAIN_RTOL, DESCENT_STEP, FALLBACK_PATIENCE, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN,
-                      SEARCH_ACTIVE)
+from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RELAXATION, CHAIN_RTOL, DESCENT_STEP, DILATANCY_STEPS, DILATANCY_TRACK,
+                      FALLBACK_PATIENCE, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN, SEARCH_ACTIVE)
 from .alternation import Alternation
 from .certify import Certifier
 from .descent import Descent
@@ -45,6 +45,7 @@ class Starts:
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
         self._from_zero = None  # (state,) once the chain from zero cohesion ran
+        self._dilatancy = None  # (state,) once the dilatancy continuation ran
         #: LP solves, and LP work (:meth:`work`), at which the continuations
         #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
         #: without a time limit
@@ -97,15 +98,29 @@ class Starts:
     # ------------------------------------------------------------ first certificate
     def first_certificate(self, x_assoc):
         """The gap alternation from the associative statics and, if it certifies nothing,
-        the rescue from where it stalled, then the fixed-point chain from the stall and from
-        the associative statics (:mod:`.fallback`), then from zero cohesion."""
+        the rescue from where it stalled, then the seed's chain from zero cohesion with its
+        cohesive LP cold, then the fixed-point chain from the stall and from the
+        associative statics (:mod:`.fallback`), then the dilatancy continuation.
+
+        Cold: the cohesive LP's statics is massively degenerate and the chain follows the
+        optimum HiGHS returns; from the bases the stalled alternations left, the chain
+        stays where they stalled (the 1,020-block running-bond walls at mu = 0.9 and 1.0:
+        nothing certified in 317 and 744 s), while a cold start (interior point and
+        crossover on large LPs) owes nothing to them: the default run certifies both
+        (0.522912 and 0.549902, whole process 242 and 265 s beside another solve). Only
+        here, where nothing is certified yet: warm from a certified state's bases the chain
+        from zero finds lower states (the 33-block running-bond wall at mu = 1.0: 0.607903
+        warm, 0.685714 cold)."""
         _, x = self.alternate(x_assoc, source="gap")
         if self.record.best is None:
             self.rescue(x_assoc, x)
         if self.record.best is None:
+            self.problem.load_bases({name: None for name in self.problem.save_bases(("coh",))})
+            self.from_zero()
+        if self.record.best is None:
             fallback(self, (x, x_assoc))
         if self.record.best is None:
-            self.from_zero()
+            self.dilatancy(x_assoc)
 
     def rescue(self, x_assoc, x_stall=None):
         """When the main ladder certifies nothing: higher rho from where it stalled (the
@@ -138,6 +153,7 @@ class Starts:
                 break
             self.continuation(x_assoc, rhos)
         self.from_zero()
+        self.dilatancy(x_assoc)
         self.problem.load_bases(saved)
 
     def continuation(self, x_assoc, rhos=RHO_CONTS[0]):
@@ -202,6 +218,38 @@ class Starts:
             finally:
                 self.record.phase("zero cohesion", t)
         return self._from_zero[0]
+
+    def dilatancy(self, x_assoc):
+        """The dilatancy continuation, once: from the associative statics (at t = 1 the
+        fictitious system whose sliding dilates by t mu is the associative one, whose
+        optimum is a collapse state) through the systems of DILATANCY_STEPS down to the
+        seed's (t = 0), the gap alternation tracking the statics at each t; at t = 0 the
+        alternation certifies, and where it stalls below the best, RHO_HIGH and the rows the
+        statics nearly holds. A homotopy from an exact solution, not a fixed point: it
+        reaches collapse states the other starts miss (the 510-block running-bond wall at
+        mu = 1.0: 0.568109, where the others certify 0.816327). Without a time limit it
+        ends at the work bounds. Returns its least certified state (or None)."""
+        if self._dilatancy is None:
+            t = time.perf_counter()
+            best = None
+            try:
+                with self.problem.until(self.bounded()):
+                    x = x_assoc
+                    for dil in DILATANCY_STEPS:
+                        _, x = self.alternate(x, source="dilatancy", dilatancy=dil, max_steps=DILATANCY_TRACK)
+                    best, x = self.alternate(x, source="dilatancy")
+                    if self._stalled_below_best(x, self.record.best):
+                        st, x = self.alternate(x, rhos=RHO_HIGH, source="dilatancy")
+                        best = _least(best, st)
+                        if self._stalled_below_best(x, self.record.best):
+                            best = _least(best, self.certify_near(x, "dilatancy-near"))
+            except Stopped:
+                if self.problem.deadline.expired():
+                    raise
+            finally:
+                self._dilatancy = (best,)
+                self.record.phase("dilatancy", t)
+        return self._dilatancy[0]
 
     # ---------------------------------------------------------- near-active rows
     def certify_near(self, x, source, first=False):
