@@ -63,7 +63,7 @@ def light_scales(structure: Structure, light: float):
     LPs, as every other block's are. Every other row and contact has scale 1: a structure
     without light blocks is solved exactly as without this. Returns ``rows`` (3 nb: the
     equilibrium rows are multiplied by it) and ``contacts`` (nc: a contact's forces are
-    ``contacts * `` the LP's columns).
+    ``contacts`` times the LP's columns).
     """
     w = block_loads(structure)
     lit = (w > 0) & (w < light)

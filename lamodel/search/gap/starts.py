@@ -2,11 +2,12 @@
 
 1. :meth:`Starts.associative`: max alpha over S, the associative bound and first statics.
 2. :meth:`Starts.first_certificate`: the alternation on RHO_MAIN from there and, if it
-   certifies nothing, :meth:`Starts.rescue`, then the fixed-point chain from the stall
-   (:mod:`.fallback`).
+   certifies nothing, :meth:`Starts.rescue`, the seed's chain from zero cohesion (cold),
+   the fixed-point chain from the stall (:mod:`.fallback`), the dilatancy continuation.
 3. :meth:`Starts.stable`: some statics carries the dead load alone.
-4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS), and the
-   seed's chain from zero cohesion (:meth:`Starts.from_zero`).
+4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS), the
+   seed's chain from zero cohesion (:meth:`Starts.from_zero`) and the dilatancy
+   continuation (:meth:`Starts.dilatancy`), each once a search.
 5. The GA's evaluations (:mod:`.fitness`): :meth:`Starts.perturbed` cohesions and the
    seed's fixed-point :meth:`Starts.chain`.
 
@@ -300,7 +301,10 @@ class Starts:
                 break
             if relax == 1.0 and best is None and step >= FALLBACK_PATIENCE:
                 relax, seen = CHAIN_RELAXATION, []  # not converging: averaged from here
-            status, _, xc, u, xi = p.mechanism(c)
+            status, a_k, xc, u, xi = p.mechanism(c)
+            if p.verbose > 1:
+                print(f"{p.elapsed():8.2f}   chain {source} step {step}: {status} alpha_K {a_k:.7f} relax {relax:g}",
+                      flush=True)
             if status != "optimal":
                 break
             st = self.certifier.certify(u, xi, source)
