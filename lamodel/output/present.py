@@ -272,7 +272,7 @@ def _run_methods(method, structure, options, seed_ga, echo):
     """A method other than lamodel (or all of them): the result folder holds the certified
     state of the method (for all: of the best one). Returns (outcome, results, the
     methods table or None)."""
-    from ..search.methods import SEED_GENERATIONS, SEED_POP_SIZE, best_of, run_methods
+    from ..search.methods import best_of, run_methods
     from .methods import method_results, methods_frame
 
     def progress(r):
@@ -280,7 +280,7 @@ def _run_methods(method, structure, options, seed_ga, echo):
             echo(f"  {r.method}: raw alpha {r.alpha_raw:.6f}, certified "
                  + (f"{r.alpha_certified:.6f}" if r.certified else "none") + f" ({r.seconds:.1f} s)")
 
-    found = run_methods(method, structure, options, seed_ga or (SEED_POP_SIZE, SEED_GENERATIONS), progress)
+    found = run_methods(method, structure, options, seed_ga, progress)
     chosen = best_of(found)
     frame = None
     if method == "all":

@@ -429,8 +429,8 @@ def run_method(name: str, structure: Structure, options: SolveOptions | None = N
         return successive_lp(structure, opt, lps, assoc, t0)
     if name == "mpec":
         return mpec(structure, opt, lps, assoc, t0, deadline)
-    pop, gens = seed_budget or (SEED_POP_SIZE, SEED_GENERATIONS)
-    return seed_ga(structure, opt, lps, assoc, t0, deadline, pop, gens)
+    pop, gens = seed_budget or (None, None)  # either may be unset (None): the seed's own
+    return seed_ga(structure, opt, lps, assoc, t0, deadline, pop or SEED_POP_SIZE, gens or SEED_GENERATIONS)
 
 
 def run_methods(name: str, structure: Structure, options: SolveOptions | None = None,

@@ -140,6 +140,21 @@ def test_method_all_on_wall33_writes_methods_csv(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("ga", [[], ["--pop-size", "2"], ["--generations", "1"]], ids=["default", "pop", "gens"])
+def test_the_seed_method_takes_its_own_ga_budget_where_none_is_given(tmp_path, ga):
+    """`--method seed` (and so `all`) without --pop-size or --generations, or with only one
+    of them: the seed's own budget fills in what is missing (it crashed on None)."""
+    spec = tmp_path / "stack.json"
+    import json
+    spec.write_text(json.dumps(stack_spec(2, mu=0.6)))
+    res = lamodel_cli("solve", spec, "--method", "seed", "--out", tmp_path / "r", "--no-plot", "--quiet", *ga)
+    assert res.returncode == 0, res.stderr
+    summary = pd.read_csv(tmp_path / "r" / "summary.csv")
+    assert summary["method"][0] == "seed" and summary.certified[0]
+    assert summary.alpha[0] == pytest.approx(0.5, abs=1e-6)  # the two-block column overturns
+
+
+@pytest.mark.slow
 def test_single_method_from_the_command_line(tmp_path):
     spec = tmp_path / "stack.json"
     import json
