@@ -71,10 +71,9 @@ class ScaledProblem(Scoped):
         # light blocks: their equilibrium rows times R, their contacts' forces in units of C
         self.R, self.C = light_scales(s, LIGHT_BLOCK)
         self.row_scale = np.tile(self.C, 4)  # a yield row's slack, and its flow's force, in its contact's units
-        R = sp.diags(self.R)
         # --- statics in generator form: columns lambda (4 nc), alpha
         T_unit = generator_matrix(s)
-        self.T = T_unit @ sp.diags(np.repeat(self.C, 4))  # lambdas in their contact's units
+        self.T = self._columns(T_unit, 4)  # lambdas in their contact's units
         self.Slam = (-(self.Y @ T_unit)).tocsr()  # yield slacks = Slam @ lambda (>= 0), in the contact's units
         assert self.Slam.min() >= 0
         self.held_lams = held_generators(nc)
@@ -85,14 +84,14 @@ class ScaledProblem(Scoped):
                                                                      self.held_lams[on])
         rows = np.repeat(np.arange(4 * nc), 2)
         self.row_of_pair = sp.csr_matrix((np.ones(8 * nc), (rows, self.held_lams.ravel())), shape=self.Slam.shape)
-        Ag = (R @ sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)])).tocsc()
+        Ag = self._rows(sp.hstack([self.A @ self.T, self.fbar.reshape(-1, 1)])).tocsc()
         self.nl = 4 * nc
         lo = np.zeros(self.nl + 1)
         hi = np.full(self.nl + 1, INF)
         self.stat = HighsLP(Ag, -self.R * self.f0, np.zeros(self.nl + 1), lo, hi, "statics")
         # --- fictitious cohesive LP: columns (n1, n2, V) per contact, alpha
-        self.Tc = cohesive_matrix(s) @ sp.diags(np.repeat(self.C, 3))
-        Ac = (R @ sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)])).tocsc()
+        self.Tc = self._columns(cohesive_matrix(s), 3)
+        Ac = self._rows(sp.hstack([self.A @ self.Tc, self.fbar.reshape(-1, 1)])).tocsc()
         # Flow rows of the cohesive system in its own columns: one nonzero per row.
         self.Gc = (self.G @ self.Tc).tocsr()
         self.Gc.eliminate_zeros()
@@ -116,6 +115,16 @@ class ScaledProblem(Scoped):
         self.work_elsewhere = 0  # and their work
         self.dilatant = None  # (t, HighsLP): the cohesive LP of dilatancy t (see mechanism)
         self.dilatant_done = [0, 0]  # solves and work of the dilatant LPs of other t
+
+    def _rows(self, M):
+        """M (equilibrium rows) with a light block's rows times R; M itself, the same matrix
+        entry for entry, where no block is light."""
+        return sp.diags(self.R) @ M if np.any(self.R != 1.0) else M
+
+    def _columns(self, M, per):
+        """M with the ``per`` columns of each contact times its scale C (M itself where no
+        block is light)."""
+        return M @ sp.diags(np.repeat(self.C, per)) if np.any(self.C != 1.0) else M
 
     # ------------------------------------------------------------------ bookkeeping
     def elapsed(self):
@@ -278,13 +287,12 @@ class ScaledProblem(Scoped):
         associative LP)."""
         nc = self.nc
         if self.dilatant is None or self.dilatant[0] != t:
-            cols = sp.diags(np.concatenate([np.repeat(self.C, 4), self.C]))
-            A = sp.hstack([self.A @ sp.hstack([generator_matrix(self.s, t * self.mu), shear_matrix(self.s)]) @ cols,
-                           self.fbar.reshape(-1, 1)])
+            T = sp.hstack([self._columns(generator_matrix(self.s, t * self.mu), 4), self._columns(shear_matrix(self.s), 1)])
+            A = sp.hstack([self.A @ T, self.fbar.reshape(-1, 1)])
             n = 5 * nc + 1
             cost = np.zeros(n)
             cost[-1] = -self.obj_scale
-            lp = HighsLP((sp.diags(self.R) @ A).tocsc(), -self.R * self.f0, cost, np.zeros(n), np.full(n, INF),
+            lp = HighsLP(self._rows(A).tocsc(), -self.R * self.f0, cost, np.zeros(n), np.full(n, INF),
                          "dilatant")
             if self.dilatant is not None:
                 old = self.dilatant[1]
