@@ -249,11 +249,12 @@ def _check_resolution(structure):
     small = unresolved_blocks(structure)
     if small:
         shown = ", ".join(f"'{b}'" for b in small[:5]) + (f" and {len(small) - 5} more" if len(small) > 5 else "")
-        raise InputError(f"{structure.name}: block{'s' if len(small) > 1 else ''} {shown} "
-                         f"{'are' if len(small) > 1 else 'is'} smaller than {SIZE_RESOLUTION:g} times the "
-                         f"structure's size, beyond what double precision can resolve: {'their' if len(small) > 1 else 'its'} contacts cannot be placed "
-                         "accurately enough to certify a collapse state; expected blocks at least that large (or the "
-                         "small blocks analysed on their own)")
+        many = len(small) > 1
+        raise InputError(f"{structure.name}: block{'s' if many else ''} {shown} {'are' if many else 'is'} smaller "
+                         f"than {SIZE_RESOLUTION:g} times the structure's size, beyond what double precision can "
+                         f"resolve: {'their' if many else 'its'} contacts cannot be placed accurately enough to "
+                         "certify a collapse state; expected blocks at least that large (or the small blocks analysed "
+                         "on their own)")
 
 
 def _study_progress(echo):

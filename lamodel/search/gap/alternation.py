@@ -95,8 +95,9 @@ class Alternation:
                     step_gap = p.gap(x, xi, u)
                     if p.verbose > 1:
                         rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
-                        print(f"{p.elapsed():8.2f}   t {dilatancy:g} rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} step gap "
-                              f"{step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})", flush=True)
+                        print(f"{p.elapsed():8.2f}   t {dilatancy:g} rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} "
+                              f"step gap {step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})",
+                              flush=True)
                     # With flows left on slack rows the certification's first LP (min gap of
                     # this mechanism, capped) decides whether a statics can hold them all.
                     if real and step_gap <= GAP_CERTIFY * max(1.0, alpha):

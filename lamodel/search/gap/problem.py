@@ -287,7 +287,8 @@ class ScaledProblem(Scoped):
         associative LP)."""
         nc = self.nc
         if self.dilatant is None or self.dilatant[0] != t:
-            T = sp.hstack([self._columns(generator_matrix(self.s, t * self.mu), 4), self._columns(shear_matrix(self.s), 1)])
+            T = sp.hstack([self._columns(generator_matrix(self.s, t * self.mu), 4),
+                           self._columns(shear_matrix(self.s), 1)])
             A = sp.hstack([self.A @ T, self.fbar.reshape(-1, 1)])
             n = 5 * nc + 1
             cost = np.zeros(n)

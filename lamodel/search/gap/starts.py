@@ -23,8 +23,8 @@ import numpy as np
 
 from ..highs import INF
 from ..options import Deadline, Stopped
-from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RELAXATION, CHAIN_RTOL, DESCENT_STEP, DILATANCY_STEPS, DILATANCY_TRACK,
-                      FALLBACK_PATIENCE, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN, SEARCH_ACTIVE)
+from ..tuning import (BELOW_BEST, CHAIN_ATOL, CHAIN_RELAXATION, CHAIN_RTOL, DESCENT_STEP, DILATANCY_STEPS,
+                      DILATANCY_TRACK, FALLBACK_PATIENCE, RHO_CONTS, RHO_HIGH, RHO_LOW, RHO_MAIN, SEARCH_ACTIVE)
 from .alternation import Alternation
 from .certify import Certifier
 from .descent import Descent
