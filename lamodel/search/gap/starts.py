@@ -108,7 +108,7 @@ class Starts:
         stays where they stalled (the 1,020-block running-bond walls at mu = 0.9 and 1.0:
         nothing certified in 317 and 744 s), while a cold start (interior point and
         crossover on large LPs) owes nothing to them: the default run certifies both
-        (0.522912 and 0.549902, whole process 242 and 265 s beside another solve). Only
+        (0.522916 and 0.549900, whole process 243 and 256 s). Only
         here, where nothing is certified yet: warm from a certified state's bases the chain
         from zero finds lower states (the 33-block running-bond wall at mu = 1.0: 0.607903
         warm, 0.685714 cold)."""
