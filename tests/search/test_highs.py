@@ -94,6 +94,27 @@ def test_a_capped_solve_that_crawls_stops_at_its_backstop_as_if_capped(monkeypat
     assert p.statics()[0] == "optimal" and not p.deadline.expired()
 
 
+@pytest.mark.slow
+def test_before_its_speed_is_known_a_capped_solve_may_take_twice_the_cold_solve(monkeypatch):
+    """Before an LP has a sample of warm iterations, the backstop of a capped solve is twice
+    its longest cold solve (a fixed few seconds cut every certification of a 2,040-block
+    wall at a fifth of its cap); a solve cut by the backstop joins the speed sample (else
+    the sample never grows where every capped solve meets it)."""
+    monkeypatch.setattr(highs, "CAP_BACKSTOP_MIN", 0.0)
+    p = ScaledProblem(bond(20))  # 510 blocks: cold max alpha ~1 s, then min alpha ~1,500 iterations
+    p.statics(maximize=True)
+    assert p.stat.cold_seconds > 0 and p.stat.warm_iterations == 0
+    assert p.statics(cap=10 ** 6)[0] == "optimal"
+
+    q = ScaledProblem(bond(20))
+    q.statics(maximize=True)
+    q.stat.cold_seconds = 0.02 * p.stat.cold_seconds  # as if the cold solve had been fast
+    status, x = q.statics(cap=10 ** 6)
+    assert status == "iteration limit" and x is None
+    assert 0 < q.stat.warm_iterations < p.stat.warm_iterations
+    assert q.statics()[0] == "optimal" and not q.deadline.expired()
+
+
 def test_the_work_of_a_solve_is_its_iterations_times_its_rows():
     """HighsLP.work (the search's work bound) grows by the simplex iterations of a warm
     solve times the LP's rows."""
