@@ -27,7 +27,7 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    generations, or the time limit; without a time limit, at most TOTAL_WORK times the
    first certificate's LP solves in all, and at most WORK_PER_BLOCK LP work a block
    (simplex iterations times rows: about a minute per thousand blocks), continuations
-   included.
+   included; the first certificate at FIRST_WORK times that work.
 5. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
@@ -60,9 +60,9 @@ from .generations import Generations
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
-from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, IPOPT_GROWTH, IPOPT_ITERATIONS,
-                     IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK,
-                     Z_INIT, Z_MAX)
+from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, FIRST_WORK, IPOPT_GROWTH,
+                     IPOPT_ITERATIONS, IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK,
+                     TOTAL_WORK, Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
@@ -228,6 +228,8 @@ def _search(engine, opt, progress, client=None, work=None):
         if kind not in ("ok", "unbounded"):
             return NOT_CERTIFIED, f"the associative LP failed ({kind})", alpha_assoc
         progress.phase("first certificate")
+        if opt.time_limit is None:
+            starts.first_bound = FIRST_WORK * engine.problem.work_bound()
         starts.first_certificate(x0)
         # (stable() gives the statics LP back its basis near the collapse states: the GA's
         # evaluations, pure ones included, start from there, not from alpha = 0)
@@ -345,6 +347,9 @@ def _nothing_certified(engine, alpha_assoc, stopped):
             "between piers)"), alpha_assoc
     bound = (f"; the associative multiplier {alpha_assoc:.6g} bounds alpha_c from above"
              if np.isfinite(alpha_assoc) else "")
+    if engine.starts.first_spent and not stopped:
+        when = (f" within the default run's work bound ({FIRST_WORK:g} times that of {engine.problem.nb} blocks; "
+                "--time-limit SECONDS searches for that long instead)")
     return NOT_CERTIFIED, f"no collapse state certified{when}{bound}", alpha_assoc
 
 

@@ -194,8 +194,8 @@ TOTAL_WORK = 10.0
 #: about proportional to time: 1.4e-7 to 1.6e-7 CPU seconds a unit measured on the 1020- and
 #: 2040-block running-bond walls), about a minute per thousand blocks; the continuations and
 #: the chain from zero cohesion end between two LP solves once it is spent, the first
-#: certificate is never cut. Measured (benchmarks/families.py --quick): no case reaches a
-#: fifth of it (work/bound at most 0.185), every alpha as without it. 1020 blocks (mu 0.65):
+#: certificate at FIRST_WORK times it (below). Measured (benchmarks/families.py --quick):
+#: no case reaches a fifth of it (work/bound at most 0.185), every alpha as without it. 1020 blocks (mu 0.65):
 #: the whole run 4.0e8 units (bound 4.08e8), its best 0.444923 at 3.6e8, as without it.
 #: 510 blocks (20 x 25, mu 0.9): the bound ends the search right after its first phase (427
 #: LPs), 0.538064 in 27 s of CPU; without it 0.536905 (the GA, at LP 3269) in 221 s. 2040
@@ -203,6 +203,14 @@ TOTAL_WORK = 10.0
 #: 100 s of CPU); the search ends after 97 LPs (142 s of CPU) with 0.419543, where the
 #: continuation starts alone ran 470+ LPs of 2-10 s each before.
 WORK_PER_BLOCK = 4.0e5
+#: Without a time limit the first certificate (the alternation, the rescue, the chains and
+#: the dilatancy continuation, until one certifies) ends at FIRST_WORK times that work
+#: bound (in space, the cone programs' bound below). Measured: the 1,020-block running-bond
+#: walls at mu 0.9 and 1.0 get theirs from the chain from zero cohesion at 3.7 and 4.0 times
+#: it, the 2,040-block wall at mu 0.65 at 0.9 times, every case of benchmarks/families.py
+#: --quick below 0.2 times; twice the most measured. Without it a structure no start
+#: certifies (the 2,040-block wall at mu 0.9) ran every chain to its end: an hour and more.
+FIRST_WORK = 8.0
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
 #: Ipopt starts when --starts is not given.

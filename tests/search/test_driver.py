@@ -6,6 +6,7 @@ import pytest
 
 from oracle import check_folder
 from lamodel.search.driver import SolveOptions, solve
+from lamodel.search.state import NOT_CERTIFIED
 from lamodel.geometry import running_bond_wall
 from lamodel.io.jsonspec import structure_from_json
 
@@ -240,16 +241,34 @@ def test_without_a_time_limit_the_work_is_bounded_by_the_first_certificate(monke
 
 def test_without_a_time_limit_the_lp_work_is_bounded_by_the_size(monkeypatch):
     """Without a time limit the search also stops at WORK_PER_BLOCK LP work a block,
-    continuations included, but never before its first certificate: with no work left
-    after it, the search solves no LP past its first phase."""
+    continuations included, and its first certificate only at FIRST_WORK times that: with
+    no work left after it, the search solves no LP past its first phase."""
+    from lamodel.search import driver
     from lamodel.search.gap import problem
     s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
-    monkeypatch.setattr(problem, "WORK_PER_BLOCK", 0.0)
+    monkeypatch.setattr(problem, "WORK_PER_BLOCK", 1e-9)
+    monkeypatch.setattr(driver, "FIRST_WORK", 1e18)  # the first certificate's bound out of the way
     o = solve(s, SolveOptions(starts=0))
     assert o.certified and o.best.alpha <= o.alpha_associative
     assert o.runs[0].iterations == o.lps_first
     timed = solve(s, SolveOptions(starts=0, time_limit=600))
     assert timed.runs[0].iterations > o.lps_first
+
+
+def test_without_a_time_limit_the_first_certificate_ends_at_its_work_bound(monkeypatch):
+    """Without a time limit a structure no start certifies ends at FIRST_WORK times the work
+    bound (here 0: at once), with exit status 3 and a message that names the bound and
+    --time-limit; with a time limit the same search runs on and certifies (the 33-block
+    panel at mu = 0.9 needs the chain from zero cohesion, past the alternation)."""
+    from lamodel.search.gap import problem
+    s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
+    monkeypatch.setattr(problem, "WORK_PER_BLOCK", 0.0)
+    o = solve(s, SolveOptions(starts=0))
+    assert not o.certified and o.status == NOT_CERTIFIED and o.best is None
+    assert "work bound" in o.message and "--time-limit" in o.message
+    assert "associative multiplier" in o.message
+    timed = solve(s, SolveOptions(starts=0, time_limit=600))
+    assert timed.certified and timed.best.alpha <= 0.617365
 
 
 def test_runs_csv_says_which_path_certified_the_answer():

@@ -28,15 +28,19 @@ def test_the_driver_solves_a_structure_in_space():
 
 def test_without_a_time_limit_the_cone_work_is_bounded(monkeypatch):
     """In space the default run stops at the cone programs' work bound too (counted, the
-    first certificate never cut): with no work allowed, nothing runs past the first phase;
-    the bound grows with the blocks and has a floor."""
+    first certificate at FIRST_WORK times it): with no work allowed past the first
+    certificate, nothing runs past the first phase; the bound grows with the blocks and
+    has a floor."""
+    from lamodel.search import driver
     from lamodel.search.gap import problem3d
     s = _tall_block()
     full = solve(s, SolveOptions(seed=0))
-    monkeypatch.setattr(problem3d, "WORK_FLOOR_CONE", 0.0)
+    monkeypatch.setattr(problem3d, "WORK_FLOOR_CONE", 1e-9)
     monkeypatch.setattr(problem3d, "WORK_PER_BLOCK_CONE", 0.0)
+    monkeypatch.setattr(driver, "FIRST_WORK", 1e30)  # the first certificate's bound out of the way
     o = solve(s, SolveOptions(seed=0))
     assert o.certified and o.runs[0].iterations == o.lps_first < full.runs[0].iterations
+    monkeypatch.setattr(problem3d, "WORK_FLOOR_CONE", 0.0)
     p = problem3d.ConeProblem(extrude(read(INSTANCES / "wall33.dat"), 1.0))
     assert p.work() == 0 and p.work_bound() == problem3d.WORK_PER_BLOCK_CONE * p.nb
     p.cone.associative()

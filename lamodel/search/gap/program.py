@@ -72,8 +72,8 @@ class GapProgram(Protocol):
         proportional to the time, the same on any machine."""
 
     def work_bound(self) -> float:
-        """Without a time limit the search stops at this much :meth:`work` (the first
-        certificate is never cut)."""
+        """Without a time limit the search stops at this much :meth:`work`, its first
+        certificate at FIRST_WORK times it."""
 
     def until(self, deadline) -> AbstractContextManager:
         """Within the block every solve is given ``deadline``."""

@@ -53,6 +53,8 @@ class Starts:
         self.work_limit = None
         self.work_bound = None
         self.cycles = 0  # chains that met a cohesion again (see chain)
+        #: LP work at which the first certificate ends (None: no bound) and whether it did
+        self.first_bound, self.first_spent = None, False
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -98,6 +100,22 @@ class Starts:
 
     # ------------------------------------------------------------ first certificate
     def first_certificate(self, x_assoc):
+        """The first certificate (:meth:`_first_certificate`); with ``first_bound`` set
+        (the driver's, without a time limit) it ends between two solves once the search's
+        work reaches it (``first_spent`` then tells so)."""
+        if self.first_bound is None:
+            return self._first_certificate(x_assoc)
+        real = self.problem.deadline
+        bounded = Deadline(real.at, lambda: real.expired() or self.work() >= self.first_bound)
+        try:
+            with self.problem.until(bounded):
+                self._first_certificate(x_assoc)
+        except Stopped:
+            if self.problem.deadline.expired():  # the time limit or a stop: the search's to handle
+                raise
+            self.first_spent = True
+
+    def _first_certificate(self, x_assoc):
         """The gap alternation from the associative statics and, if it certifies nothing,
         the rescue from where it stalled, then the seed's chain from zero cohesion with its
         cohesive LP cold, then the fixed-point chain from the stall and from the
