@@ -105,10 +105,8 @@ class Starts:
         work reaches it (``first_spent`` then tells so)."""
         if self.first_bound is None:
             return self._first_certificate(x_assoc)
-        real = self.problem.deadline
-        bounded = Deadline(real.at, lambda: real.expired() or self.work() >= self.first_bound)
         try:
-            with self.problem.until(bounded):
+            with self.problem.until(self.bounded(lambda: self.work() >= self.first_bound)):
                 self._first_certificate(x_assoc)
         except Stopped:
             if self.problem.deadline.expired():  # the time limit or a stop: the search's to handle
@@ -200,12 +198,14 @@ class Starts:
         finally:
             self.record.phase("continuation", t)
 
-    def bounded(self) -> Deadline:
-        """The search's deadline, which also expires once the work bounds are spent. The work
+    def bounded(self, spent=None) -> Deadline:
+        """The search's deadline, which also expires once the work bounds are spent
+        (``spent()``: other bounds; default the driver's). The work
         grows only when a solve ends, so it expires between two solves: no LP is cut inside
         HiGHS (the LPs stay usable), the next one raises Stopped before it starts."""
         real = self.problem.deadline
-        return Deadline(real.at, lambda: real.expired() or self._spent())
+        spent = spent or self._spent
+        return Deadline(real.at, lambda: real.expired() or spent())
 
     def work(self) -> int:
         """The LP work of the search so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
