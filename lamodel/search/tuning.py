@@ -130,8 +130,15 @@ FALLBACK_STEPS, FALLBACK_PATIENCE = 60, 8
 #: bond walls of 48-105 blocks at mu 0.9-1.0 end at the same alpha with each; the 510-block
 #: running-bond wall at mu = 1.0 is certified at 0.568109 with 9 steps only (4 and 19 end
 #: at t = 0 without a certificate), where every other start of the search certifies at
-#: best 0.816327 (the default run: 0.568109 now). The quick families keep every alpha;
-#: their LP solves grow by 6 % (10,610 to 11,232).
+#: best 0.816327. The quick families keep every alpha; their LP solves grow by 6 % (10,610
+#: to 11,232). Where the continuation stalls at t = 0 the seed's chain from the stall
+#: follows (FALLBACK_STEPS, FALLBACK_PATIENCE): alone from the associative statics the
+#: continuation stalls on the 10 x 10 and 12 x 6 running-bond walls at mu = 0.9, and the
+#: chain certifies 0.587003 and 0.579043; on the 510-block wall at mu = 1.0, with the
+#: search's LPs on other bases (the stability test run on a copy of them), it stalled and
+#: the chain certified 0.558544 (the default run: 0.568109 from the continuation itself).
+#: The quick families and the running-bond walls of 510-2,040 blocks keep their alphas and
+#: LP counts (the chain does not run there).
 DILATANCY_STEPS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1)
 #: Mechanism/gap steps a rho at each t of the continuation (a path to follow, not an
 #: optimum to reach): in space a t took up to 65 steps of about 2 s on the Armadillo vault

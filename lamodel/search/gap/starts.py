@@ -244,7 +244,9 @@ class Starts:
         optimum is a collapse state) through the systems of DILATANCY_STEPS down to the
         seed's (t = 0), the gap alternation tracking the statics at each t; at t = 0 the
         alternation certifies, and where it stalls below the best, RHO_HIGH and the rows the
-        statics nearly holds. A homotopy from an exact solution, not a fixed point: it
+        statics nearly holds, then the seed's fixed-point chain from the stall
+        (:mod:`.fallback`; at t = 0 the continuation can stall at a partial optimum as the
+        other alternations do). A homotopy from an exact solution, not a fixed point: it
         reaches collapse states the other starts miss (the 510-block running-bond wall at
         mu = 1.0: 0.568109, where the others certify 0.816327). Without a time limit it
         ends at the work bounds. Returns its least certified state (or None)."""
@@ -262,6 +264,8 @@ class Starts:
                         best = _least(best, st)
                         if self._stalled_below_best(x, self.record.best):
                             best = _least(best, self.certify_near(x, "dilatancy-near"))
+                    if self._stalled_below_best(x, self.record.best):
+                        best = _least(best, fallback(self, (x,), source="dilatancy-fixed", until=self._spent))
             except Stopped:
                 if self.problem.deadline.expired():
                     raise

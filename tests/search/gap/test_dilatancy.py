@@ -73,6 +73,18 @@ def test_the_continuation_certifies_exact_collapse_states(structure):
     assert e.starts.dilatancy(x0) is st  # once a search
 
 
+def test_where_the_continuation_stalls_the_chain_from_its_stall_certifies():
+    """At t = 0 the continuation can stall below every state it certified (a 10 x 10
+    running-bond wall at mu = 0.9: no mechanism on the rows its statics holds); the seed's
+    fixed-point chain from that stall then certifies an exact collapse state."""
+    s = bond(10, width=10, mu=0.9)
+    e = GapSearch(s)
+    _, _, x0 = e.starts.associative()
+    st = e.starts.dilatancy(x0)
+    assert st is not None and st.source.startswith("dilatancy-fixed")
+    assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7
+
+
 def test_the_continuation_in_space():
     s = box_on_ground(1.0, 0.5, 2.0, 0.6, (0.0, 1.0, 0.0))
     e = GapSearch(s)
