@@ -202,8 +202,9 @@ TOTAL_WORK = 10.0
 #: 2040-block running-bond walls), about a minute per thousand blocks; the continuations and
 #: the chain from zero cohesion end between two LP solves once it is spent, the first
 #: certificate at FIRST_WORK times it (below). Measured (benchmarks/families.py --quick):
-#: no case reaches a fifth of it (work/bound at most 0.185), every alpha as without it. 1020 blocks (mu 0.65):
-#: the whole run 4.0e8 units (bound 4.08e8), its best 0.444923 at 3.6e8, as without it.
+#: no case reaches a fifth of it (work/bound at most 0.185), every alpha as without it.
+#: 1020 blocks (mu 0.65): the whole run 4.0e8 units (bound 4.08e8), its best 0.444923 at
+#: 3.6e8, as without it.
 #: 510 blocks (20 x 25, mu 0.9): the bound ends the search right after its first phase (427
 #: LPs), 0.538064 in 27 s of CPU; without it 0.536905 (the GA, at LP 3269) in 221 s. 2040
 #: blocks (mu 0.65): the first phase alone is 7.2e8 units (118,000 iterations of 6120 rows,
