@@ -27,12 +27,12 @@ from __future__ import annotations
 import heapq
 import itertools
 import math
-import time
 from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
 
+from ..search.options import Deadline
 from .exact import ExactData, floor_float
 from .lps import BoundLPs
 
@@ -85,7 +85,7 @@ class Progress:
 class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
-    def __init__(self, structure, upper: float, deadline: float, alpha_split=8, tol=None, max_nodes=None,
+    def __init__(self, structure, upper: float, deadline: Deadline, alpha_split=8, tol=None, max_nodes=None,
                  pairs="none", max_lps=None, eager_root=False):
         self.s = structure
         self.U = float(upper)
@@ -116,7 +116,7 @@ class BranchAndBound:
 
     # ------------------------------------------------------------------ time
     def _check_time(self):
-        if time.monotonic() >= self.deadline or (self.max_lps is not None and self.lps.n_solves >= self.max_lps):
+        if self.deadline.expired() or (self.max_lps is not None and self.lps.n_solves >= self.max_lps):
             self.out_of_budget = True
             raise OutOfTime()
 

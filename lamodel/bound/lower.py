@@ -71,19 +71,33 @@ class LowerBound:
         return self.alpha_upper - self.alpha_lower
 
 
+def proves(alpha_lower: float, alpha: float) -> bool:
+    """``alpha_lower`` proves ``alpha`` (a certified multiplier) the global minimum."""
+    return bool(alpha - alpha_lower <= PROVEN_TOL * max(1.0, alpha))
+
+
 def default_budget(search_seconds: float, structure) -> dict:
     """The keyword arguments of :func:`lower_bound` for the default bound on ``structure``
     after a search that took ``search_seconds`` (see LPS_PER_CONTACT, LPS_PER_POINT)."""
+    return default_counts(structure) | {"budget": default_seconds(search_seconds, structure)}
+
+
+def default_counts(structure) -> dict:
+    """The counted limits of the default bound (the same bound on any machine)."""
     if getattr(structure, "dimension", 2) == 3:
-        return {"budget": max(FLOOR_SECONDS_3D, SHARE * float(search_seconds)),
-                "max_lps": min(MAX_LPS_3D, LPS_PER_POINT * max(1, structure.n_points))}
-    return {"budget": max(FLOOR_SECONDS, SHARE * float(search_seconds)), "max_nodes": 1,
-            "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
+        return {"max_lps": min(MAX_LPS_3D, LPS_PER_POINT * max(1, structure.n_points))}
+    return {"max_nodes": 1, "max_lps": LPS_PER_CONTACT * max(1, structure.n_contacts)}
+
+
+def default_seconds(search_seconds: float, structure) -> float:
+    """The default bound's time guard: SHARE of the search's seconds, at least the floor."""
+    floor = FLOOR_SECONDS_3D if getattr(structure, "dimension", 2) == 3 else FLOOR_SECONDS
+    return max(floor, SHARE * float(search_seconds))
 
 
 def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = 10.0,
                 alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
-                max_lps: int | None = None, eager_root: bool = False) -> LowerBound:
+                max_lps: int | None = None, eager_root: bool = False, deadline=None) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 
     ``alpha_upper``: the best certified alpha (any number works as the top of the searched
@@ -97,18 +111,22 @@ def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: 
     bound of two contacts (:mod:`.plane`) follows the rounds: "none", "root" or "all".
     ``eager_root``: the root's first round solves every contact's Nmin LP, not only
     those its cohesive mechanism slides on (same proofs on the seed's instances, 17 times
-    the LPs on a running-bond wall)."""
+    the LPs on a running-bond wall). ``deadline``: a
+    :class:`~lamodel.search.options.Deadline` to stop at instead of ``budget`` (one that
+    can be set or stopped from another thread: :mod:`.beside`)."""
+    from ..search.options import Deadline
     from .branch import BranchAndBound
     t0 = time.perf_counter()
     structure.validate()
     if not math.isfinite(alpha_upper) or alpha_upper < 0:
         return LowerBound(math.nan, alpha_upper, False, 0, 0, 0, 0, 0, 0.0, "none")
-    deadline = time.monotonic() + float(budget)
+    if deadline is None:
+        deadline = Deadline.after(float(budget))
     bb = BranchAndBound(structure, alpha_upper, deadline, alpha_split=alpha_split, max_nodes=max_nodes,
                         pairs=pairs, max_lps=max_lps, eager_root=eager_root)
     L, open_nodes = bb.run(0.0)
     p = bb.progress
-    proven = alpha_upper - L <= PROVEN_TOL * max(1.0, alpha_upper)
+    proven = proves(L, alpha_upper)
     check = "none" if L <= 0 else ("lowered" if p.checks_failed else "passed")
     complete = proven or not open_nodes or not bb.out_of_budget
     return LowerBound(alpha_lower=float(L), alpha_upper=float(alpha_upper), proven_global=bool(proven),

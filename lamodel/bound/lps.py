@@ -121,12 +121,12 @@ class BoundLPs:
         self.coh = _lp(Mc, cost, self._coh_lo, self._coh_hi, -f0, -f0, "bound-coh")
 
     # ------------------------------------------------------------------ running HiGHS
-    def _run(self, lp: HighsLP, deadline: float | None) -> str:
-        """Solve; "stopped" when the deadline (time.monotonic) passed (the caller ends)."""
+    def _run(self, lp: HighsLP, deadline: Deadline | None) -> str:
+        """Solve; "stopped" when the deadline expired (the caller ends)."""
         t = time.perf_counter()
         self.n_solves += 1
         try:
-            return lp.solve(deadline=None if deadline is None else Deadline(deadline))
+            return lp.solve(deadline=deadline)
         except Stopped:
             return "stopped"
         finally:

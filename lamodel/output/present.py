@@ -204,13 +204,21 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
                 from ..studies import governing_study
                 study, outcome, extra = governing_study(structure, options, _study_progress(echo))
             else:
+                from ..bound.beside import BoundBeside
                 from .report import lower_bound_columns
-                outcome = solve(structure, options)
+                # the default bound runs beside the search, from its associative multiplier
+                beside = BoundBeside(structure) if prove is None else None
+                try:
+                    outcome = solve(structure, options, on_associative=None if beside is None else beside.start)
+                except BaseException:
+                    if beside is not None:
+                        beside.stop()
+                    raise
                 dead_u = explain_unstable(outcome)
                 if drawing:  # drawn while the lower bound is proved (the picture does not show it)
                     draw(outcome, outcome_results(outcome), dead_u)
                     drawing = False
-                extra = lower_bound_columns(outcome, prove)
+                extra = lower_bound_columns(outcome, prove, beside)
             results = outcome_results(outcome, dict(extra, method="lamodel"))
         if dead_u is _UNKNOWN:
             dead_u = explain_unstable(outcome)

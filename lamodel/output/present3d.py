@@ -112,16 +112,18 @@ def refuse_spatial_options(inputs, view):
                          "without it")
 
 
-def _solve(s, method, options, stop):
+def _solve(s, method, options, stop, on_associative=None):
     """(Result3D kept in the folder, runs table, methods table or None, the method kept).
-    The search shows its own progress line (``options.progress``)."""
+    The search shows its own progress line (``options.progress``); ``on_associative``:
+    the search's (:func:`lamodel.search.driver.solve`)."""
     from ..search.search3d import solve3d
     from .results3d import methods_frame3d, runs_frame
     runs, done, iterations = [], {}, {}
     for m in (["associative", "successive-lp", "lamodel"] if method == "all" else [method]):
         which, explore = METHODS3D[m]
         done[m] = r = solve3d(s, method=which, explore=explore, time_limit=options.time_limit,
-                              seed=int(options.seed), stop=stop, options=options if m == "lamodel" else None)
+                              seed=int(options.seed), stop=stop, options=options if m == "lamodel" else None,
+                              on_associative=on_associative if m == "lamodel" else None)
         for k, v in r.methods.items():   # each method's own answer, certified (the search's: its path)
             runs.append((k, v))
             iterations[k] = r.n_cone
@@ -143,6 +145,7 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
     for the browser view (inside ``out`` it is part of the folder). ``prove``: seconds for
     the proven lower bound ``alpha_lower`` (default: :func:`lamodel.bound.lower.default_budget`).
     Returns an :class:`Analysis3D`."""
+    from ..bound.beside import BoundBeside
     from ..io.files import safe_folder_name
     from ..search.options import catch_sigint, restore_sigint
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
@@ -167,8 +170,15 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
         stop = threading.Event()
         caught = catch_sigint(stop.set)
         t0 = time.perf_counter()
+        # the default bound runs beside the search, from its associative multiplier
+        beside = BoundBeside(structure) if prove is None else None
         try:
-            result, runs, methods, kept = _solve(structure, method, options, stop.is_set)
+            result, runs, methods, kept = _solve(structure, method, options, stop.is_set,
+                                                 None if beside is None else beside.start)
+        except BaseException:
+            if beside is not None:
+                beside.stop()
+            raise
         finally:
             restore_sigint(caught)
         if echo is not None and methods is not None:
@@ -179,7 +189,7 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
         extra |= {k: (Path(p).name if k in inside else str(p or "")) for k, p in extras.items()}
         summary = summary_row(structure, result, kept, extra)
         summary["wall_time_s"] = time.perf_counter() - t0
-        summary |= bound_columns3d(structure, result, summary["wall_time_s"], prove)
+        summary |= bound_columns3d(structure, result, summary["wall_time_s"], prove, beside)
         words = describe3d(structure, result.motions, result.modes) + bound_words(pd.DataFrame([summary]))
         write_results3d(stage.path, structure, result, summary, runs, methods)
         _draw({k: stage.path / Path(p).name for k, p in inside.items()}, structure, result)

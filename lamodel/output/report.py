@@ -71,29 +71,40 @@ def _residual_columns(best) -> dict:
     return {"residual": float(best.residual[worst]) + 0.0, "residual_condition": worst}
 
 
-def lower_bound_columns(outcome: Outcome, prove: float | None = None) -> dict:
+def lower_bound_columns(outcome: Outcome, prove: float | None = None, beside=None) -> dict:
     """summary.csv's columns of the proven lower bound (:func:`lamodel.bound.lower_bound`)
     after a search: ``alpha_lower`` (no collapse state below it under this load pattern;
     NaN when nothing was proved), ``proven_global`` (alpha is the global minimum within
     1e-6 relative), ``alpha_lower_seconds`` and ``alpha_lower_check`` (the exact check of
     its certificates). The top of the searched range is the certified alpha (else the
     associative bound). ``prove``: seconds for the bound (the branch-and-bound);
-    default :func:`lamodel.bound.lower.default_budget`."""
+    default :func:`lamodel.bound.lower.default_budget`. ``beside``: the default bound
+    started beside the search (:class:`lamodel.bound.beside.BoundBeside`), used if it ran."""
     upper = outcome.best.alpha if outcome.best is not None else outcome.alpha_associative
     ok = outcome.status in ("certified", "not_certified")
     return bound_columns(outcome.structure, upper if ok else np.nan, outcome.best is not None,
-                         outcome.wall_time_s, prove)
+                         outcome.wall_time_s, prove, beside)
 
 
 def bound_columns(structure, upper: float, certified: bool, search_seconds: float,
-                  prove: float | None = None) -> dict:
+                  prove: float | None = None, beside=None) -> dict:
     """The columns of :func:`lower_bound_columns` for any structure (plane or space) whose
-    search took ``search_seconds`` and gave ``upper`` (NaN: no bound is computed)."""
-    from ..bound.lower import default_budget, lower_bound
+    search took ``search_seconds`` and gave ``upper`` (NaN: no bound is computed).
+    ``beside``: a :class:`~lamodel.bound.beside.BoundBeside` the search started (its
+    bound, topped by the associative multiplier, replaces the default one; with ``prove``
+    it is stopped: the branch-and-bound searches below the certified alpha only)."""
+    from ..bound.lower import default_budget, lower_bound, proves
+    lb = None
+    if beside is not None:
+        if np.isfinite(upper) and prove is None:
+            lb = beside.finish(search_seconds)
+        else:
+            beside.stop()
     if not np.isfinite(upper):
         return {"alpha_lower": np.nan, "proven_global": False, "alpha_lower_seconds": 0.0,
                 "alpha_lower_check": "none"}
-    limits = {"budget": prove} if prove is not None else default_budget(search_seconds, structure)
-    lb = lower_bound(structure, upper, **limits)
-    return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": lb.proven_global and certified,
+    if lb is None:
+        limits = {"budget": prove} if prove is not None else default_budget(search_seconds, structure)
+        lb = lower_bound(structure, upper, **limits)
+    return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": certified and proves(lb.alpha_lower, upper),
             "alpha_lower_seconds": lb.time, "alpha_lower_check": lb.exact_check}

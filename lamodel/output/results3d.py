@@ -69,15 +69,16 @@ def summary_row(s: Structure3D, result, method: str, extra: dict) -> dict:
     return row
 
 
-def bound_columns3d(s: Structure3D, result, search_seconds: float, prove: float | None = None) -> dict:
+def bound_columns3d(s: Structure3D, result, search_seconds: float, prove: float | None = None, beside=None) -> dict:
     """summary.csv's columns of the proven lower bound in space
     (:func:`lamodel.output.report.bound_columns`): the top of the range is the certified
     alpha, else the associative bound; none for an unstable structure or one that does
-    not collapse."""
+    not collapse. ``beside``: the bound started beside the search (see
+    :func:`~lamodel.output.report.bound_columns`)."""
     from .report import bound_columns
     upper = result.alpha if result.state is not None else result.associative
     ok = result.status in ("certified", "none certified")
-    return bound_columns(s, upper if ok else np.nan, result.state is not None, search_seconds, prove)
+    return bound_columns(s, upper if ok else np.nan, result.state is not None, search_seconds, prove, beside)
 
 
 def runs_frame(runs: list) -> pd.DataFrame:

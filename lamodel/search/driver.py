@@ -118,14 +118,17 @@ class _Progress:
         self.bar.close()
 
 
-def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None) -> Outcome:
+def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None,
+          on_associative=None) -> Outcome:
     """Find the least certified collapse multiplier of the structure (see module doc), planar
     or in space: the same steps on the formulation of :func:`.gap.formulation_of` (in
     space: cone programs, no Ipopt polish).
 
     ``stop``: a callable returning True to stop early (e.g. ``event.is_set`` of an event set
     by another thread), as Ctrl-C does: the best certified state so far is reported, with
-    the status ``interrupted``.
+    the status ``interrupted``. ``on_associative(alpha)``: called with the associative
+    multiplier as soon as it is known (finite; e.g. to start the lower bound beside the
+    search, :mod:`lamodel.bound.beside`).
     """
     from .gap import GapSearch
 
@@ -166,7 +169,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         engine.record.on_state = on_state
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
-        status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None), work)
+        status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None), work,
+                                                 on_associative)
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
                         engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),
                         time.perf_counter() - t_search, path_of(engine.record.best)))
@@ -213,7 +217,7 @@ def path_of(state) -> str:
     return PATHS.get(word, word)
 
 
-def _search(engine, opt, progress, client=None, work=None):
+def _search(engine, opt, progress, client=None, work=None, on_associative=None):
     """Steps 2-4 of the module doc. Returns (status, message, associative alpha); ``work``
     (a dict) gets the LP solves of the first phase as ``first``."""
     work = {} if work is None else work
@@ -226,6 +230,8 @@ def _search(engine, opt, progress, client=None, work=None):
             return UNSTABLE, _unstable_message(engine), np.nan
         if kind not in ("ok", "unbounded"):
             return NOT_CERTIFIED, f"the associative LP failed ({kind})", alpha_assoc
+        if on_associative is not None and kind == "ok":
+            on_associative(alpha_assoc)
         progress.phase("first certificate")
         if opt.time_limit is None:
             starts.first_bound = FIRST_WORK * engine.problem.work_bound()

@@ -63,7 +63,7 @@ class Result3D:
 
 
 def solve3d(structure: Structure3D, method: str = "all", time_limit: float | None = None, explore: bool = True,
-            seed: int = 0, stop=None, options: SolveOptions | None = None) -> Result3D:
+            seed: int = 0, stop=None, options: SolveOptions | None = None, on_associative=None) -> Result3D:
     """Least certified collapse multiplier of a 3D block assembly on the Coulomb cone.
 
     ``method``: 'all' (or 'lamodel'; 'gap' with ``explore``) runs the search
@@ -73,7 +73,7 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
     certified state kept). Returns a :class:`Result3D`: alpha, the certified statics (N,
     T1, T2 per point), block motions (nb, 6), per-point modes and the path that certified
     it, in the user's units; ``methods`` gives each method's raw alpha, its certified
-    alpha and path.
+    alpha and path. ``on_associative``: the search's (:func:`lamodel.search.driver.solve`).
     """
     from ..errors import InputError
     structure.validate()
@@ -82,13 +82,13 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
                          f"{ASSOCIATIVE}")
     if method in ("all", "lamodel") or (method == "gap" and explore):
         opt = options or SolveOptions(time_limit=time_limit, seed=seed)
-        return _searched(structure, opt, stop)
+        return _searched(structure, opt, stop, on_associative)
     return _method(structure, method, Deadline.after(time_limit, stop))
 
 
-def _searched(structure, opt, stop) -> Result3D:
+def _searched(structure, opt, stop, on_associative=None) -> Result3D:
     from .driver import path_of, solve
-    out = solve(structure, opt, stop)
+    out = solve(structure, opt, stop, on_associative)
     best = out.best
     alpha = np.nan if best is None else best.alpha
     run = out.runs[0] if out.runs else None
