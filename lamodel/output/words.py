@@ -189,12 +189,13 @@ def describe(structure: Structure, u, modes, alpha=None) -> list:
     head = "Mechanism" + (f" at alpha = {alpha + 0.0:.6g}" if alpha is not None and np.isfinite(alpha) else "")
     lines = [f"{head}: {n_moving} of {s.n_blocks} blocks move as {len(groups)} rigid macro-block"
              f"{'s' if len(groups) != 1 else ''}; {s.n_blocks - n_moving} stay at rest."]
-    scale = np.abs(u[:, :2]).max(initial=0.0) + np.abs(u[:, 2]).max(initial=0.0) * s.size()
+    size = s.size()  # of every block's vertices: once, not once a macro-block
+    scale = np.abs(u[:, :2]).max(initial=0.0) + np.abs(u[:, 2]).max(initial=0.0) * size
     for n, g in enumerate(groups, start=1):
         j = g[0]
         ux, uy, th = u[j]
         names = ", ".join(s.blocks[i] for i in g[:12]) + (f", ... ({len(g)} blocks)" if len(g) > 12 else "")
-        if abs(th) * s.size() > 1e-6 * scale:
+        if abs(th) * size > 1e-6 * scale:
             # instantaneous centre: where (ux - th (y - yG), uy + th (x - xG)) vanishes
             centre = s.centroid[j] + np.array([-uy / th, ux / th])
             motion = f"turns {_sense(th)} about {_fmt_point(centre, unit)}"

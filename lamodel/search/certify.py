@@ -39,8 +39,8 @@ def unresolved_blocks(structure) -> list:
     place their contacts to the accuracy a certificate needs. However light a block is
     beside the others, its loads are resolved (the LPs scale light blocks:
     :func:`~lamodel.formulation.scaling.light_scales`)."""
-    size = block_sizes(structure)
-    return [b for b, w in zip(structure.blocks, size) if w < SIZE_RESOLUTION * structure.size()]
+    smallest = SIZE_RESOLUTION * structure.size()  # of every block's vertices: once, not once a block
+    return [b for b, w in zip(structure.blocks, block_sizes(structure)) if w < smallest]
 
 
 def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
