@@ -28,10 +28,18 @@ from .lower import LowerBound, default_counts, default_seconds, lower_bound
 
 
 class BoundBeside:
-    """The default lower bound of ``structure`` in a thread, from a top given by the search."""
+    """The default lower bound of ``structure`` in a thread, from a top given by the search.
 
-    def __init__(self, structure):
+    ``enabled=False`` (e.g. ``--prove``, which runs after the search): :meth:`start` starts
+    nothing. Used as a context manager around the search, an exception stops the bound::
+
+        with beside:
+            outcome = solve(structure, options, on_associative=beside.start)
+    """
+
+    def __init__(self, structure, enabled: bool = True):
         self.structure = structure
+        self.enabled = enabled
         self._stop = threading.Event()
         #: no time of its own while the search runs (:meth:`finish` sets it); a stop ends it
         self.deadline = Deadline(None, self._stop.is_set)
@@ -43,7 +51,7 @@ class BoundBeside:
     def start(self, alpha_upper: float):
         """Start the bound with ``alpha_upper`` (the associative multiplier) as the top of
         the range; a top that is not a finite multiplier starts nothing."""
-        if self._thread is not None or not (math.isfinite(alpha_upper) and alpha_upper >= 0):
+        if not self.enabled or self._thread is not None or not (math.isfinite(alpha_upper) and alpha_upper >= 0):
             return
         self._started = time.monotonic()
         self._thread = threading.Thread(target=self._run, args=(float(alpha_upper),), name="lamodel-bound",
@@ -77,6 +85,14 @@ class BoundBeside:
         if self._error is not None:
             raise self._error
         return self._result
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, error, trace):
+        if kind is not None:  # the search failed or was interrupted: the bound ends with it
+            self.stop()
+        return False
 
     def stop(self):
         """End the bound (its LPs stop at HiGHS's next interrupt check); nothing is kept."""

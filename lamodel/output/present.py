@@ -207,13 +207,9 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
                 from ..bound.beside import BoundBeside
                 from .report import lower_bound_columns
                 # the default bound runs beside the search, from its associative multiplier
-                beside = BoundBeside(structure) if prove is None else None
-                try:
-                    outcome = solve(structure, options, on_associative=None if beside is None else beside.start)
-                except BaseException:
-                    if beside is not None:
-                        beside.stop()
-                    raise
+                beside = BoundBeside(structure, enabled=prove is None)
+                with beside:
+                    outcome = solve(structure, options, on_associative=beside.start)
                 dead_u = explain_unstable(outcome)
                 if drawing:  # drawn while the lower bound is proved (the picture does not show it)
                     draw(outcome, outcome_results(outcome), dead_u)

@@ -171,14 +171,10 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
         caught = catch_sigint(stop.set)
         t0 = time.perf_counter()
         # the default bound runs beside the search, from its associative multiplier
-        beside = BoundBeside(structure) if prove is None else None
+        beside = BoundBeside(structure, enabled=prove is None)
         try:
-            result, runs, methods, kept = _solve(structure, method, options, stop.is_set,
-                                                 None if beside is None else beside.start)
-        except BaseException:
-            if beside is not None:
-                beside.stop()
-            raise
+            with beside:
+                result, runs, methods, kept = _solve(structure, method, options, stop.is_set, beside.start)
         finally:
             restore_sigint(caught)
         if echo is not None and methods is not None:

@@ -57,3 +57,16 @@ def test_stop_ends_the_bound_and_no_state_means_no_bound():
         b = BoundBeside(s)
         b.start(top)
         assert not b.started
+    off = BoundBeside(s, enabled=False)  # --prove: the bound runs after the search
+    off.start(0.5)
+    assert not off.started
+
+
+def test_a_failed_search_stops_the_bound():
+    s = read(INSTANCES / "arch.dat")
+    beside = BoundBeside(s)
+    with pytest.raises(KeyboardInterrupt):
+        with beside:
+            beside.start(0.5)
+            raise KeyboardInterrupt
+    assert beside._stop.is_set() and not beside._thread.is_alive()
