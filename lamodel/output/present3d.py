@@ -201,7 +201,7 @@ def _draw(paths: dict, s, result):
     """The picture (plot3d) and the browser view (view3d) at their paths."""
     if "picture" in paths:
         from .plot3d import plot_structure3d
-        alpha = f"alpha = {result.alpha:.6f}" if result.state is not None else result.status
+        alpha = f"alpha = {result.alpha:.6f}" if result.state is not None else result.status.replace("_", " ")
         plot_structure3d(s, paths["picture"], motions=result.motions, title=f"{s.name}: {alpha}")
     if "view" in paths:
         from .view3d import write_view3d

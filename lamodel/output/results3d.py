@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from ..io.files import atomic_write
+from ..search.state import CERTIFIED, NOT_CERTIFIED
 from ..structure3d import Structure3D
 from .methods import METHOD_COLUMNS
 from .results import FLOAT_FORMAT
@@ -77,7 +78,7 @@ def bound_columns3d(s: Structure3D, result, search_seconds: float, prove: float 
     :func:`~lamodel.output.report.bound_columns`)."""
     from .report import bound_columns
     upper = result.alpha if result.state is not None else result.associative
-    ok = result.status in ("certified", "none certified")
+    ok = result.status in (CERTIFIED, NOT_CERTIFIED)
     return bound_columns(s, upper if ok else np.nan, result.state is not None, search_seconds, prove, beside)
 
 

@@ -27,16 +27,13 @@ from .options import Deadline, SolveOptions, Stopped
 METHODS = ("gap", "successive")
 #: The associative bound's own mechanism certified (a method on its own, not part of 'all').
 ASSOCIATIVE = "associative"
-#: The driver's statuses in the words of the 3D result folder.
-_WORDS = {"certified": "certified", "not_certified": "none certified", "unstable": "unstable",
-          "no_collapse": "no collapse", "interrupted": "interrupted"}
 
 
 @dataclass
 class Result3D:
     """Outcome of :func:`solve3d`; forces and motions in the user's units."""
 
-    status: str                      # 'certified', 'unstable', 'no collapse', 'none certified', 'interrupted'
+    status: str                      # one of lamodel.search.state.STATUSES, as in the plane
     state: CollapseState3D | None
     associative: float
     message: str = ""
@@ -92,7 +89,7 @@ def _searched(structure, opt, stop, on_associative=None) -> Result3D:
     best = out.best
     alpha = np.nan if best is None else best.alpha
     run = out.runs[0] if out.runs else None
-    r = Result3D(_WORDS.get(out.status, out.status), best, out.alpha_associative, out.message,
+    r = Result3D(out.status, best, out.alpha_associative, out.message,
                  *out.first, associative_time=out.phases.get("associative", np.nan), seconds=out.wall_time_s,
                  history=[h[:3] for h in out.history],
                  n_cone=run.iterations if run is not None else 0)
@@ -105,16 +102,16 @@ def _method(structure, method, deadline) -> Result3D:
     """One method on the search's pieces (:class:`lamodel.search.gap.GapSearch`)."""
     from .gap import GapSearch
     from .methods import successive_cone
-    from .state import unstable_message
+    from .state import CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, unstable_message
     t0 = time.perf_counter()
     eng = GapSearch(structure, deadline)
-    p, out, raw = eng.problem, Result3D("none certified", None, np.nan), np.nan
+    p, out, raw = eng.problem, Result3D(NOT_CERTIFIED, None, np.nan), np.nan
     try:
         kind, out.associative, x0 = eng.starts.associative()
         if kind == "unstable":
-            out.status, out.message = "unstable", unstable_message()
+            out.status, out.message = UNSTABLE, unstable_message()
         elif kind == "unbounded":
-            out.status, out.associative = "no collapse", np.inf
+            out.status, out.associative = NO_COLLAPSE, np.inf
             out.message = "the associative program is unbounded: the statics carries any multiple of the live load"
         elif kind != "ok":
             out.message = f"associative cone program: {kind}"
@@ -129,18 +126,18 @@ def _method(structure, method, deadline) -> Result3D:
             if res.u is not None:
                 eng.certifier.certify(res.u, p.flows(res.u), ASSOCIATIVE)
         if eng.record.best is not None and not eng.starts.stable():
-            out.status, out.message = "unstable", unstable_message()
+            out.status, out.message = UNSTABLE, unstable_message()
             eng.record.best = eng.record.best_user = None
     except Stopped:
-        out.status = "interrupted"
+        out.status = INTERRUPTED
     rec = eng.record
     out.state = rec.best_user
-    if out.state is not None and out.status != "interrupted":
-        out.status, out.message = "certified", "least certified collapse multiplier of the method"
-    elif out.status == "interrupted":
+    if out.state is not None and out.status != INTERRUPTED:
+        out.status, out.message = CERTIFIED, "least certified collapse multiplier of the method"
+    elif out.status == INTERRUPTED:
         out.message = ("stopped: the best certified state so far" if out.state is not None
                        else "stopped before any collapse state was certified")
-    elif out.status == "none certified" and not out.message:
+    elif out.status == NOT_CERTIFIED and not out.message:
         out.message = f"no collapse state certified; the associative multiplier {out.associative:.6g} bounds alpha_c"
     if rec.first is not None:
         out.first_alpha, out.first_time = rec.first

@@ -210,7 +210,7 @@ def test_the_time_limit_and_the_seed_are_honoured_and_recorded(tmp_path):
     spec = write(tmp_path, "cubes.json", stack_spec())
     a = lamodel.analyse(spec, lamodel.SolveOptions(time_limit=1e-3, seed=7), tmp_path / "r", picture=False)
     summary = pd.read_csv(tmp_path / "r" / "summary.csv")
-    assert not a.certified and summary.status[0] == "none certified"      # stopped before any certificate
+    assert not a.certified and summary.status[0] == "not_certified"      # stopped before any certificate
     assert summary.time_limit[0] == 1e-3 and summary.seed[0] == 7 and np.isnan(summary.alpha[0])
     assert "no certified collapse multiplier" in a.line()
     b = lamodel.analyse(spec, lamodel.SolveOptions(seed=7), tmp_path / "r", picture=False)
