@@ -281,8 +281,12 @@ def test_picture_draws_point_loads_where_they_act():
     fig, ax = plt.subplots()
     plot_mechanism(s, np.zeros((1, 3)), ax=ax, path=None)
     from matplotlib.patches import FancyArrowPatch
-    # the arrows' (tail, tip) in data units (matplotlib keeps no public getter for them)
+    from matplotlib.quiver import Quiver
+    # the arrows' tips in data units: point loads are patches (matplotlib keeps no public
+    # getter for their ends), the loads at the centroids one quiver a kind
     tips = [np.array(a._posA_posB[1]) for a in ax.get_children() if isinstance(a, FancyArrowPatch)]
+    tips += [np.array(t) for q in ax.collections if isinstance(q, Quiver)
+             for t in zip(q.X + q.U, q.Y + q.V)]
     assert any(np.allclose(t, (0.0, 2.0)) for t in tips)          # the live arrow ends at its point
     assert any(np.allclose(t[0], 0.5) and t[1] < 1.0 for t in tips)  # the weight from the centroid, down
     assert ax.get_xlabel().startswith("x [m]")

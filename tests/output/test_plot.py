@@ -9,6 +9,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+from matplotlib.quiver import Quiver  # noqa: E402
 
 from lamodel.errors import InputError  # noqa: E402
 from lamodel.geometry import seed_wall  # noqa: E402
@@ -17,6 +18,12 @@ from lamodel.output.plot import contact_kinematics, contact_modes, pivots, plot_
 from lamodel.structure import Structure  # noqa: E402
 from lamodel.formulation.matrices import equilibrium_matrix  # noqa: E402
 
+
+
+def _polygons(ax):
+    """The axes' polygon collections: supports, blocks at rest, displaced blocks (the load
+    arrows are quivers, polygon collections too)."""
+    return [c for c in ax.collections if isinstance(c, PolyCollection) and not isinstance(c, Quiver)]
 
 def rect(x0, y0, x1, y1):
     return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
@@ -109,7 +116,7 @@ def test_displaced_blocks_are_drawn_where_the_mechanism_puts_them(wall):
     u[:, 0] += 1e-3
     fig, ax = plt.subplots()
     plot_mechanism(wall, u, ax=ax, path=None)
-    polys = [c for c in ax.collections if isinstance(c, PolyCollection)]
+    polys = _polygons(ax)
     rest, moved = polys[-2], polys[-1]  # supports, blocks at rest, displaced blocks
     biggest = 0.0
     for j, (p0, p1) in enumerate(zip(rest.get_paths(), moved.get_paths())):
@@ -131,7 +138,7 @@ def test_scale_override(block_on_ground):
     u = np.array([[0.1, 0.0, 0.0]])
     fig, ax = plt.subplots()
     plot_mechanism(s, u, ax=ax, path=None, scale=2.0)
-    moved = [c for c in ax.collections if isinstance(c, PolyCollection)][-1]
+    moved = _polygons(ax)[-1]
     assert np.allclose(moved.get_paths()[0].vertices[:4], np.array(rect(0, 0, 2, 1)) + [0.2, 0.0])
     plt.close(fig)
 
@@ -194,7 +201,7 @@ def test_blocks_without_polygons_are_drawn_as_centroids(tmp_path):
     plot_mechanism(bare, u, ax=ax, path=None)
     crosses = [line for line in ax.lines if line.get_marker() == "+"]
     assert len(crosses) == 2 and len(crosses[0].get_xdata()) == bare.n_blocks
-    assert not [c for c in ax.collections if isinstance(c, PolyCollection)]
+    assert not _polygons(ax)
     plt.close(fig)
     a = pixels(bare, u, tmp_path / "a.png")
     b = pixels(bare, np.zeros_like(u), tmp_path / "b.png")
