@@ -171,16 +171,8 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
 
 
 # ------------------------------------------------------------------ annotations
-def _arrow(ax, tail, tip, colour, lw=1.0):
-    """An arrow from tail to tip (data coordinates). A patch, not an annotation (a text,
-    laid out at every draw), added as an artist: ``add_patch`` computes each arrow's
-    display path for the data limits, which the callers set from the arrow ends."""
-    ax.add_artist(FancyArrowPatch(posA=tuple(tail), posB=tuple(tip), arrowstyle="-|>", color=colour, lw=lw,
-                                 shrinkA=0, shrinkB=0, mutation_scale=10, zorder=6))
-
-
 def _arrows(ax, tails, vectors, colour, width=1.0, head=4.0):
-    """Many arrows from ``tails`` along ``vectors`` (data coordinates), as one collection:
+    """Arrows from ``tails`` along ``vectors`` (data coordinates), as one collection:
     a patch an arrow took 3 of the 7 s of a 1,020-block wall's picture (two per block, the
     loads), drawn twice by the tight bounding box. ``width`` (the shaft) and ``head`` (its
     width and length) in points."""
@@ -258,10 +250,10 @@ def _load_arrows(ax, s, alpha, legend):
         from_centroids = [(at, length * f) for k, at, f, at_point in arrows if k == kind and not at_point]
         _arrows(ax, [at for at, _ in from_centroids], [v for _, v in from_centroids], colour, width=0.7)
         ends += [e for at, v in from_centroids for e in (at, at + v)]
-        for k, at, f, at_point in arrows:
-            if k == kind and at_point:  # ending where it acts, heavier
-                _arrow(ax, at - length * f, at, colour, lw=1.6)
-                ends += [at - length * f, at]
+        at_points = [(at - length * f, length * f) for k, at, f, at_point in arrows if k == kind and at_point]
+        # point loads end where they act, heavier
+        _arrows(ax, [t for t, _ in at_points], [v for _, v in at_points], colour, width=1.6, head=6.0)
+        ends += [e for t, v in at_points for e in (t, t + v)]
     force = f" [{s.units['force']}]" if s.units.get("force") else ""
     kinds = {k for k, *_ in arrows}
     if "dead" in kinds:

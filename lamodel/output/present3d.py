@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..search.state import INTERRUPTED
 
 #: --method -> (solve3d's method, explore)
 METHODS3D = {"lamodel": ("all", True), "associative": ("associative", False), "successive-lp": ("successive", False)}
@@ -48,7 +49,7 @@ class Analysis3D:
     certified = property(lambda self: self.result.state is not None,
                          doc="Whether the search certified a collapse state in space.")
     alpha = property(lambda self: float(self.result.alpha), doc="The certified multiplier (NaN: none).")
-    interrupted = property(lambda self: self.result.status == "interrupted",
+    interrupted = property(lambda self: self.result.status == INTERRUPTED,
                            doc="Whether a stop signal ended the search (its best state is written).")
 
     def line(self) -> str:
@@ -127,7 +128,7 @@ def _solve(s, method, options, stop, on_associative=None):
         for k, v in r.methods.items():   # each method's own answer, certified (the search's: its path)
             runs.append((k, v))
             iterations[k] = r.n_cone
-        if r.status == "interrupted":
+        if r.status == INTERRUPTED:
             break
     table = runs_frame(runs)
     if method != "all":
