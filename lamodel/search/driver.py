@@ -58,6 +58,7 @@ from . import ipopt as _ipopt  # its task looked up at submit time (tests replac
 from .ipopt import start_pool
 from .generations import Generations
 from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
+from .progress import Progress
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, FIRST_WORK, IPOPT_GROWTH,
@@ -94,30 +95,6 @@ class Outcome:
         return self.best is not None
 
 
-class _Progress:
-    """One line on stderr, on a terminal only: phase, best certified alpha, elapsed."""
-
-    def __init__(self, enabled: bool, total: int):
-        from tqdm import tqdm
-        self.bar = tqdm(total=total, desc="associative LP", unit="genome", leave=False,
-                        disable=None if enabled else True, bar_format="{desc} {n_fmt}/{total_fmt} "
-                        "[{elapsed}{postfix}]")
-        self.alpha = None
-
-    def phase(self, name):
-        self.bar.set_description_str(name, refresh=True)
-
-    def best(self, alpha):
-        self.alpha = alpha
-        self.bar.set_postfix_str(f"best certified alpha {alpha:.6f}", refresh=True)
-
-    def tick(self):
-        self.bar.update()
-
-    def close(self):
-        self.bar.close()
-
-
 def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None,
           on_associative=None) -> Outcome:
     """Find the least certified collapse multiplier of the structure (see module doc), planar
@@ -148,7 +125,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     search_deadline = deadline
     if plan["run"] and opt.time_limit is not None:
         search_deadline = deadline.extended(-min(plan["reserve"], POLISH_SHARE * opt.time_limit))
-    progress = _Progress(opt.progress, opt.pop_size * opt.generations)
+    progress = Progress(opt.progress, opt.time_limit)
     archive = {}  # every certified state (scaled units), the least alpha per flow pattern
 
     def on_state(state):
@@ -167,6 +144,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     try:
         engine = GapSearch(structure, search_deadline, on_certified=on_certified)
         engine.record.on_state = on_state
+        progress.follow(engine.starts.budget_share)
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
         status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None), work,
@@ -232,6 +210,7 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
             return NOT_CERTIFIED, f"the associative LP failed ({kind})", alpha_assoc
         if on_associative is not None and kind == "ok":
             on_associative(alpha_assoc)
+        progress.bound(alpha_assoc)
         progress.phase("first certificate")
         if opt.time_limit is None:
             starts.first_bound = FIRST_WORK * engine.problem.work_bound()
@@ -252,7 +231,7 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")
-        _genetic_search(engine, opt, progress, client, lps_first, lp_cap)
+        _genetic_search(engine, opt, client, lps_first, lp_cap)
     except Stopped:
         if record.best is None:
             return _nothing_certified(engine, alpha_assoc, stopped=True)
@@ -261,7 +240,7 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
     return CERTIFIED, "", alpha_assoc
 
 
-def _genetic_search(engine, opt, progress, client=None, lps_first=None, lp_cap=None):
+def _genetic_search(engine, opt, client=None, lps_first=None, lp_cap=None):
     """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc); with
     ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
     in parallel (:mod:`.generations`; ``client``: a Dask connection to use). ``lp_cap``:
@@ -289,7 +268,6 @@ def _genetic_search(engine, opt, progress, client=None, lps_first=None, lp_cap=N
         stopping rule's counts follow, and no certificate is worth 10 + the best alpha.
         ``left``: evaluations of this generation after this one, from the same snapshot
         (they cannot use the improvement: the stall is counted after them)."""
-        progress.tick()
         state["evals"] += 1
         if _better(record.alpha(), state["best"]):
             state.update(best=record.alpha(), since=-left, lps=engine.n_lps())

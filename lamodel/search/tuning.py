@@ -155,7 +155,12 @@ CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
 #: chain from zero cohesion certified 0.500013 and the search 0.499882, its certificates
 #: turning the sliding directions (certify3d.align; the default run: 88.5 s of CPU, 1,964
 #: solves, measured under load); without that turn the dome is not certified. The seed's
-#: walls and the planar tests keep their alphas and LP counts.
+#: walls and the planar tests keep their alphas and LP counts. Anderson acceleration of the
+#: chain (type II, memory 5 with full steps, memory 10 with half steps) does not converge
+#: where averaging is needed: on the 1,020-block running-bond wall at mu = 0.9, from zero
+#: cohesion, the fixed-point residual |c_new - c| stays at 0.25-0.40 of the largest
+#: cohesion over 40-60 steps and no step certifies (the cohesive LP's optimal statics jump
+#: between vertices of a degenerate LP: the chain's map is set-valued, not smooth).
 CHAIN_RELAXATION = 0.2
 #: A certified state must satisfy every condition of a collapse state to this relative
 #: accuracy (lamodel.search.certify.residuals), in the scaled frame and in the user's. Two

@@ -211,6 +211,19 @@ class Starts:
         """The LP work of the search so far (:attr:`lamodel.search.highs.HighsLP.work`)."""
         return self.problem.work()
 
+    def budget_share(self):
+        """The share of the driver's work bounds spent so far: of the one closest to
+        ending the search (LP solves or LP work), during the first certificate of its own
+        bound; None where no bound is set (a time limit)."""
+        if self.work_bound is not None:
+            shares = [self.work() / self.work_bound]
+            if self.work_limit:
+                shares.append(self.problem.n_lps() / self.work_limit)
+            return max(shares)
+        if self.first_bound is not None:
+            return self.work() / self.first_bound
+        return None
+
     def _spent(self):
         """The driver's work bounds (LP solves, LP work) are reached."""
         return ((self.work_limit is not None and self.problem.n_lps() >= self.work_limit)
