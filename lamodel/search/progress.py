@@ -1,7 +1,7 @@
 """The search's progress line: on stderr, on a terminal only.
 
-``first certificate ▕███       ▏ 31% of the work bound [02:13, associative bound 0.479345,
-none certified yet]``: the phase under way, how much of the run's budget is spent, the
+``first certificate ██▍           20% of the work bound [02:05, associative bound 0.542451,
+none certified yet]`` (a 1,020-block running-bond wall at mu = 0.9): the phase under way, how much of the run's budget is spent, the
 associative bound (an upper bound on alpha_c, known after the first LP) and the best
 certified alpha so far. The budget is the user's time limit or, without one, the work
 bound that ends the phase under way (:meth:`lamodel.search.gap.starts.Starts.budget_share`):
@@ -67,10 +67,7 @@ class Progress:
     def _share(self):
         if self.time_limit is not None:
             return (time.monotonic() - self._t0) / self.time_limit if self.time_limit > 0 else 1.0
-        try:
-            return self._work_share() if self._work_share is not None else None
-        except Exception:  # pragma: no cover - a display never stops a search
-            return None
+        return self._work_share() if self._work_share is not None else None
 
     def _update(self):
         if self.bar.disable:
