@@ -1,13 +1,13 @@
 """The search's progress line: on stderr, on a terminal only.
 
 ``first certificate ██▍           20% of the work bound [02:05, associative bound 0.542451,
-none certified yet]`` (a 1,020-block running-bond wall at mu = 0.9): the phase under way, how much of the run's budget is spent, the
-associative bound (an upper bound on alpha_c, known after the first LP) and the best
-certified alpha so far. The budget is the user's time limit or, without one, the work
-bound that ends the phase under way (:meth:`lamodel.search.gap.starts.Starts.budget_share`):
-counted LP work, so the share is how far the default run is from its end, whatever the
-machine. The line is redrawn every REFRESH seconds by a thread of its own, also during a
-long LP.
+none certified yet]`` (a 1,020-block running-bond wall at mu = 0.9): the phase under way,
+how much of the run's budget is spent, the associative bound (an upper bound on alpha_c,
+known after the first LP) and the best certified alpha so far. The budget is the user's
+time limit or, without one, the work bound that ends the phase under way
+(:meth:`lamodel.search.gap.starts.Starts.budget_share`): counted LP work, so the share is
+how far the default run is from its end, whatever the machine. The line is redrawn every
+REFRESH seconds by a thread of its own, also during a long LP.
 """
 from __future__ import annotations
 
@@ -26,9 +26,9 @@ class Progress:
     def __init__(self, enabled: bool, time_limit: float | None = None):
         from tqdm import tqdm
         self.time_limit = time_limit
-        self.of = "of the time limit" if time_limit is not None else "of the work bound"
+        of = "of the time limit" if time_limit is not None else "of the work bound"
         self.bar = tqdm(total=100, desc="associative LP", leave=False, disable=None if enabled else True,
-                        bar_format="{desc} {bar:12} {percentage:3.0f}% " + self.of + " [{elapsed}{postfix}]")
+                        bar_format="{desc} {bar:12} {percentage:3.0f}% " + of + " [{elapsed}{postfix}]")
         self.associative = self.alpha = None
         self._work_share = None  # () -> share of the work bound spent, or None
         self._t0 = time.monotonic()
