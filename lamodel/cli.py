@@ -72,18 +72,23 @@ def _solve_arguments(p):
 
 
 def _solve(args, prog) -> int:
+    from threadpoolctl import threadpool_limits
+
     from .output.present import analyse
     from .search.options import SolveOptions
+    from .search.tuning import BLAS_THREADS
     options = SolveOptions(seed=args.seed, starts=args.starts, workers=args.workers, ga_workers=args.workers,
                            time_limit=args.time_limit, pop_size=args.pop_size or SolveOptions.pop_size,
                            generations=args.generations or SolveOptions.generations, solver=args.solver,
                            progress=not args.quiet, scheduler=args.scheduler)
-    a = analyse(args.instance, options, args.out, method=args.method, seed_ga=(args.pop_size, args.generations),
-                picture=False if args.no_plot else (args.plot or True), report=args.report, animate=args.animate,
-                rolling=args.rolling, axles=args.axles, positions=args.positions, echo=None if args.quiet else _say,
-                view=args.view, inputs=input_options(args),
-                warn=lambda message: print(f"{prog}: warning: {message}", file=sys.stderr),
-                command=" ".join([prog.split()[0], *sys.argv[1:]]), prove=args.prove)
+    # the search's BLAS_THREADS for the whole command (the lower bound beside it and after it too)
+    with threadpool_limits(BLAS_THREADS, user_api="blas"):
+        a = analyse(args.instance, options, args.out, method=args.method, seed_ga=(args.pop_size, args.generations),
+                    picture=False if args.no_plot else (args.plot or True), report=args.report, animate=args.animate,
+                    rolling=args.rolling, axles=args.axles, positions=args.positions, echo=None if args.quiet else _say,
+                    view=args.view, inputs=input_options(args),
+                    warn=lambda message: print(f"{prog}: warning: {message}", file=sys.stderr),
+                    command=" ".join([prog.split()[0], *sys.argv[1:]]), prove=args.prove)
     print(a.text(quiet=args.quiet))
     return exit_status() if a.interrupted else EXIT_OK if a.certified else EXIT_NOT_CERTIFIED
 

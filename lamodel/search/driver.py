@@ -51,6 +51,7 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from ..structure import Structure
 from ..structure3d import Structure3D
@@ -61,9 +62,9 @@ from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigi
 from .progress import Progress
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
-from .tuning import (ACTIVE_TOLERANCES, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, FIRST_WORK, IPOPT_GROWTH,
-                     IPOPT_ITERATIONS, IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE, STALL_WORK,
-                     TOTAL_WORK, Z_INIT, Z_MAX)
+from .tuning import (ACTIVE_TOLERANCES, BLAS_THREADS, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, FIRST_WORK,
+                     IPOPT_GROWTH, IPOPT_ITERATIONS, IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE,
+                     STALL_WORK, TOTAL_WORK, Z_INIT, Z_MAX)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
@@ -138,6 +139,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
 
     work = {}  # LP solves of the first phase
     old_handler = catch_sigint(sigint.set)
+    # BLAS_THREADS while the search runs (the Ipopt workers keep the setting they forked with)
+    blas = threadpool_limits(BLAS_THREADS, user_api="blas")
     engine = None
     runs: list[Run] = []
     status, message, alpha_assoc = NOT_CERTIFIED, "", np.nan
@@ -155,6 +158,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         if status == CERTIFIED or (status == NOT_CERTIFIED and engine.record.best is not None):
             _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
+        blas.restore_original_limits()
         progress.close()
         restore_sigint(old_handler)
         if pool is not None:

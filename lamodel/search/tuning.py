@@ -160,7 +160,18 @@ CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
 #: where averaging is needed: on the 1,020-block running-bond wall at mu = 0.9, from zero
 #: cohesion, the fixed-point residual |c_new - c| stays at 0.25-0.40 of the largest
 #: cohesion over 40-60 steps and no step certifies (the cohesive LP's optimal statics jump
-#: between vertices of a degenerate LP: the chain's map is set-valued, not smooth).
+#: between vertices of a degenerate LP: the chain's map is set-valued, not smooth). Choosing,
+#: among the cohesive LP's optimal statics (alpha within 1e-7 of alpha_K), the one whose
+#: normal forces give back the cohesions best (least sum |c + mu N|, a second LP each step,
+#: warm) makes the chain converge on the smaller walls: the 20 x 25 running-bond wall at
+#: mu = 0.9 (510 blocks) certifies from zero cohesion at step 6-11, 0.535211-0.535695 in
+#: the end (the plain chain: residual 0.2 of the largest cohesion after 40 steps, 0.537132;
+#: the default run 0.537148); but on the 1,020-block wall at mu 0.9 that LP takes
+#: 11,000-39,000 simplex iterations a step, the residual is still 0.05 after 25 steps
+#: (355 s; averaged with w = 0.5: 0.017 after 30 steps, 211 s) and nothing is certified;
+#: in space (interior-point solutions: no vertex to choose) it leaves the dome of 3 x 12
+#: voussoirs oscillating as before and the Armadillo's chain infeasible at its second
+#: program. Not kept: it does not certify the walls the default run leaves uncertified.
 CHAIN_RELAXATION = 0.2
 #: A certified state must satisfy every condition of a collapse state to this relative
 #: accuracy (lamodel.search.certify.residuals), in the scaled frame and in the user's. Two
@@ -226,6 +237,17 @@ WORK_PER_BLOCK = 4.0e5
 #: mu 0.9 the chain from zero cohesion took 124 LP solves in 700 s, another 60 steps 600 s,
 #: the dilatancy continuation 750 s, none certified.
 FIRST_WORK = 8.0
+#: BLAS threads while the search runs (numpy's dot products of its LP-sized vectors; HiGHS
+#: and Clarabel do not use BLAS). OpenBLAS splits a dot product of more than 10,000 entries
+#: over its threads, which then spin for a while after it (measured: a core kept busy
+#: through 5 ms pauses between products of 10,001 entries, idle at 9,000), and the search
+#: makes one every few LP solves: on the 1,020-block running-bond wall (mu 0.65, 11,825 columns) the default run
+#: took 96.9-97.4 s of CPU with two BLAS threads and 77.9-78.9 s with one, whole process
+#: 74.2-74.9 s against 72.4-73.7 s (same alpha, same LPs); on a machine of many cores every
+#: thread spins. One thread also leaves the second core to the lower bound beside the search,
+#: and makes those sums (OpenBLAS splits them over as many threads as the machine has, each
+#: split rounding its own way) the same on any machine.
+BLAS_THREADS = 1
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
 #: Ipopt starts when --starts is not given.

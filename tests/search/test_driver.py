@@ -281,3 +281,30 @@ def test_runs_csv_says_which_path_certified_the_answer():
     assert o.certified and o.history[0][2].startswith("zero-cohesion")
     assert path_of(o.best) == "chain from zero cohesion" and o.best.alpha <= 0.617365
     assert o.runs[0].path == path_of(o.best)
+
+
+def _blas_threads():
+    """Threads of each BLAS library loaded (numpy's and scipy's may differ), by file."""
+    from threadpoolctl import threadpool_info
+    return {d["filepath"]: d["num_threads"] for d in threadpool_info() if d["user_api"] == "blas"}
+
+
+def test_the_search_runs_on_one_blas_thread_and_gives_the_others_back():
+    """numpy's BLAS on one thread while the search runs (BLAS_THREADS: a threaded dot
+    product spins its threads after each of the search's LP-sized products), the caller's
+    setting back afterwards, also after a stop."""
+    from threadpoolctl import threadpool_limits
+    from lamodel.search.tuning import BLAS_THREADS
+    if not _blas_threads():
+        pytest.skip("numpy has no BLAS that threadpoolctl controls")
+    s = small_wall()
+    with threadpool_limits(2, user_api="blas"):
+        before = _blas_threads()
+        during = []
+        o = solve(s, SolveOptions(starts=0), on_associative=lambda a: during.append(_blas_threads()))
+        assert o.certified and during and set(during[0].values()) == {BLAS_THREADS}
+        after = _blas_threads()
+        assert {f: after[f] for f in before} == before == {f: 2 for f in before}
+        stopped = solve(s, SolveOptions(starts=0), stop=lambda: True)
+        after = _blas_threads()
+        assert not stopped.certified and {f: after[f] for f in before} == before
