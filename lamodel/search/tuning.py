@@ -241,12 +241,12 @@ FIRST_WORK = 8.0
 #: and Clarabel do not use BLAS). OpenBLAS splits a dot product of more than 10,000 entries
 #: over its threads, which then spin for a while after it (measured: a core kept busy
 #: through 5 ms pauses between products of 10,001 entries, idle at 9,000), and the search
-#: makes one every few LP solves: on the 1,020-block running-bond wall (mu 0.65, 11,825 columns) the default run
-#: took 96.9-97.4 s of CPU with two BLAS threads and 77.9-78.9 s with one, whole process
-#: 74.2-74.9 s against 72.4-73.7 s (same alpha, same LPs); on a machine of many cores every
-#: thread spins. One thread also leaves the second core to the lower bound beside the search,
-#: and makes those sums (OpenBLAS splits them over as many threads as the machine has, each
-#: split rounding its own way) the same on any machine.
+#: makes one every few LP solves: on the 1,020-block running-bond wall (mu 0.65, 11,825
+#: columns) the default run took 96.9-97.4 s of CPU with two BLAS threads and 77.9-80.2 s
+#: with one, whole process 74.2-74.9 s against 72.4-73.9 s (same alpha, same LPs); on a
+#: machine of many cores every thread spins. One thread also leaves the second core to the
+#: lower bound beside the search, and makes those sums (OpenBLAS splits them over as many
+#: threads as the machine has, each split rounding its own way) the same on any machine.
 BLAS_THREADS = 1
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
