@@ -168,8 +168,9 @@ CHAIN_RTOL, CHAIN_ATOL = 1e-9, 1e-12
 #: the end (the plain chain: residual 0.2 of the largest cohesion after 40 steps, 0.537132;
 #: the default run 0.537148); but on the 1,020-block wall at mu 0.9 that LP takes
 #: 11,000-39,000 simplex iterations a step, the residual is still 0.05 after 25 steps
-#: (355 s; averaged with w = 0.5: 0.017 after 30 steps, 211 s) and nothing is certified;
-#: in space (interior-point solutions: no vertex to choose) it leaves the dome of 3 x 12
+#: (355 s; averaged with w = 0.5: 0.017 after 30 steps, 211 s; from the gap alternation's
+#: stall, 20 steps in 466 s, alpha_K wandering 0.36-0.52) and nothing is certified; in
+#: space (interior-point solutions: no vertex to choose) it leaves the dome of 3 x 12
 #: voussoirs oscillating as before and the Armadillo's chain infeasible at its second
 #: program. Not kept: it does not certify the walls the default run leaves uncertified.
 CHAIN_RELAXATION = 0.2
