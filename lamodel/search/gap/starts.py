@@ -127,7 +127,15 @@ class Starts:
         (0.522916 and 0.549900, whole process 243 and 256 s). Only
         here, where nothing is certified yet: warm from a certified state's bases the chain
         from zero finds lower states (the 33-block running-bond wall at mu = 1.0: 0.607903
-        warm, 0.685714 cold)."""
+        warm, 0.685714 cold).
+
+        The dilatancy continuation last. Measured with it right after the rescue (default
+        runs, work in units of the default work bound): the 2,040-block running-bond wall
+        at mu = 0.9 certified 0.460249 at 8.0 (the end of the first certificate's bound;
+        1,147 s whole process), but the 1,020-block wall at mu = 0.9 only 0.523750 at 7.4
+        (529 s, from the fixed-point chain; 0.522916 at 3.7 in this order), the chain from
+        zero certifying nothing on the bases the continuation left, and the 2,040-block
+        wall at mu = 1.0 still nothing (1,329 s)."""
         _, x = self.alternate(x_assoc, source="gap")
         if self.record.best is None:
             self.rescue(x_assoc, x)
