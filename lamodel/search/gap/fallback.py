@@ -54,6 +54,24 @@ the associative statics and the gap alternation's stall; 260 GA-like perturbed c
 of the 33-block panel at mu 0.9, a 10 x 10 wall at mu 0.9 and a 6 x 5 wall at mu 1.0) no
 chain cycled: every one certified, except the 38 from zero cohesion on
 arches and portals, whose cohesive LP is infeasible (they cannot stand without friction).
+
+Other ways measured and not used (running bond, 4 x 1.75 blocks, live load = weight; each
+mechanism certified as here):
+
+* The chain through the analytic centre of the cohesive LP's optimal face (interior
+  point without crossover: a choice among the degenerate optima that does not depend on a
+  basis) from zero cohesion: 510 blocks at mu = 0.9 certified 0.543378 at its 14th step
+  (5.6 s), but 1,020 blocks at mu = 0.9 nothing in 30 steps (86 s) and 2,040 blocks
+  nothing in 30 (408 s): the map is no contraction there (the cohesions still move 5-30 %
+  a step, also averaged with weight 1/2).
+* Where the dilatancy continuation stalls on the 2,040-block wall at mu = 1.0 (gap 1.7e-5,
+  nearly all of it on three hinge rows with compression 1e-2 of their contact's normal
+  force), no statics holds its mechanism's rows: the least sum of the lambdas holding them
+  would zero is 7.4 (all 1,210 rows it flows on) and 1.5 (the 882 flowing above 1e-6 of
+  the largest), and forbidding the rows that cannot be held, round after round, raised
+  alpha_K from 0.517 to 0.997 in 8 rounds without a certificate.
+* Ferris & Tin-Loi's relaxed MPEC with Ipopt (``--method mpec``) certified neither the
+  105-block wall at mu = 0.9 (18 s) nor the 510-block one (208 s).
 """
 from __future__ import annotations
 
