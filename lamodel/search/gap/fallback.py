@@ -63,7 +63,12 @@ mechanism certified as here):
   basis) from zero cohesion: 510 blocks at mu = 0.9 certified 0.543378 at its 14th step
   (5.6 s), but 1,020 blocks at mu = 0.9 nothing in 30 steps (86 s) and 2,040 blocks
   nothing in 30 (408 s): the map is no contraction there (the cohesions still move 5-30 %
-  a step, also averaged with weight 1/2).
+  a step, also averaged with weight 1/2). Choosing instead, among the optimal statics, the
+  one whose normal forces give back the cohesions best (least sum ``|c + mu N|``, both LPs
+  by the interior point method): 510 blocks certified 0.535344 at step 9 (13 s) and the
+  residual fell to 4e-4 of the cohesions in 30 steps, but at 1,020 blocks it stayed at
+  0.05-0.15 for 30 steps (190 s) and nothing certified, as with the simplex
+  (``CHAIN_RELAXATION`` in :mod:`lamodel.search.tuning`).
 * Where the dilatancy continuation stalls on the 2,040-block wall at mu = 1.0 (gap 1.7e-5,
   nearly all of it on three hinge rows with compression 1e-2 of their contact's normal
   force), no statics holds its mechanism's rows: the least sum of the lambdas holding them
