@@ -77,22 +77,25 @@ mechanism certified as here):
   alpha_K from 0.517 to 0.997 in 8 rounds without a certificate.
 * Ferris & Tin-Loi's relaxed MPEC with Ipopt (``--method mpec``) certified neither the
   105-block wall at mu = 0.9 (18 s) nor the 510-block one (208 s).
-* The elastic-plastic load path as a start: two elastic points a contact (normal stiffness
-  proportional to d, tangential 0.4 of it), no tension, Coulomb slip without dilatancy,
-  the load raised step by step (Newton with return mapping, steps halved to 1e-7) to where
-  no equilibrium is found; that statics then gave cohesions to :meth:`~.starts.Starts.certify_slack`
-  and to the chain. The seed's 33-block panel: the path ends at 0.640890, its near-active
-  rows certify 0.638982; at mu = 0.9 it ends at 0.645984, certified 0.645963, and the
-  chain from it reaches 0.617364. 10 x 10 blocks at mu = 0.9: ends at 0.570475, the chain
-  certifies 0.566032 (4.5 s); 20 x 25 at mu = 0.9: ends at 0.474837 (16 s), the chain
-  certifies 0.538268 at 19.5 s. But on 40 x 25 at mu = 0.9 the path ends at 0.235513,
-  0.299121 and 0.343238 for a tangential stiffness 0.1, 0.4 and 1.0 of the normal one (a
-  load step of 1e-6 takes the slipping points from 249 to 730 and Newton finds no
-  equilibrium beyond), far below every state certified there, and nothing near it is
-  certified (no mechanism on its near-active rows; the chain from it, 20 steps, 121 s);
-  80 x 25 at mu = 0.9 it ends at 0.181813 (75 s). Where a non-associative path ends
-  depends on the elastic constants; at scale it is no collapse state of eq. (5) and no
-  better start than zero cohesion.
+* The elastic-plastic load path: two elastic points a contact (normal stiffness
+  proportional to d, tangential 0.4 of it), opening and Coulomb slip without dilatancy as
+  plastic strains, the load raised by control of ``fbar^T u`` (Newton with return mapping).
+  Where the path reaches a plateau every rate is plastic, so its statics is a collapse
+  state of eq. (5), the one its loading selects. Opening must be plastic (an opened end
+  does not close freely): with reversible gaps 30 % of the last increment's deformation on
+  the 20 x 25 wall at mu = 0.9 lies outside the fictitious system's kinematics (ends
+  closing that opened earlier). With the exact contact law Newton cycles at scale
+  (the 40 x 25 wall at mu = 0.9 sticks at alpha 0.299: a load step of 1e-6 takes the
+  slipping points from 249 to 730); with it smoothed (a softplus normal force, the
+  friction clipped by ``(1 + a^40)^(-1/40)``) the path goes on. Measured: the seed's
+  33-block panel levels off at 0.640377 and its near-active rows certify 0.638982 (4 s);
+  at mu = 0.9 at 0.646873, certified 0.645963, the chain from it 0.617364; 10 x 10 blocks
+  at mu = 0.9 at 0.59685 after 600 steps (45 s), certified 0.593491 (0.584514 descended);
+  20 x 25 at mu = 0.9 still rising at 0.533823 after 800 steps (460 s), nothing certified
+  from it; 80 x 25 at mu = 0.9 at alpha 0.224 after 600 s (24 steps; these two beside
+  each other). A path to its
+  plateau takes hundreds of steps, each a Newton solve of the whole structure: at scale
+  far more than the search's first certificate.
 """
 from __future__ import annotations
 
