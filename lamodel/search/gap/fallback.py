@@ -80,8 +80,8 @@ mechanism certified as here):
 * The elastic-plastic load path: two elastic points a contact (normal stiffness
   proportional to d, tangential 0.4 of it), opening and Coulomb slip without dilatancy as
   plastic strains, the load raised by control of ``fbar^T u`` (Newton with return mapping).
-  Where the path reaches a plateau every rate is plastic, so its statics is a collapse
-  state of eq. (5), the one its loading selects. Opening must be plastic (an opened end
+  Where the path reaches a plateau every rate is plastic, so its statics is (for the exact
+  law) a collapse state of eq. (5), the one its loading selects. Opening must be plastic (an opened end
   does not close freely): with reversible gaps 30 % of the last increment's deformation on
   the 20 x 25 wall at mu = 0.9 lies outside the fictitious system's kinematics (ends
   closing that opened earlier). With the exact contact law Newton cycles at scale
@@ -95,7 +95,7 @@ mechanism certified as here):
   from it; 80 x 25 at mu = 0.9 at alpha 0.224 after 600 s (24 steps; these two beside
   each other). In space, the same law on the cone point by point (the Armadillo vault of
   366 blocks and 4,761 points): the path peaks at alpha 0.229 (associative bound
-  0.450771) in 50 s and gets no further in 300 s (controlled by ``fbar^T u`` it stops there;
+  0.450771) in 55 s and gets no further in 300 s (controlled by ``fbar^T u`` it stops there;
   by arc length it wanders between 0.221 and 0.227); nothing near the peak is certified
   (its near-active points, its motion, the chain from its cohesions). A path to its plateau
   takes hundreds of steps, each a Newton solve of the whole structure: at scale far more
