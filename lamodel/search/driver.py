@@ -231,7 +231,7 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
             starts.work_bound = engine.problem.work_bound()
         if x0 is not None and np.isfinite(alpha_assoc):
             progress.phase("continuation")
-            starts.continuations(x0)
+            starts.continuations(x0, workers=opt.workers or _cores())
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         progress.phase("GA + LP")

@@ -65,7 +65,8 @@ class GapSearch:
         self.certifier = Certifier(self.problem, self.record)
         self.descent = Descent(self.problem, self.certifier, self.record)
         self.alternation = Alternation(self.problem, self.certifier, self.descent, self.record)
-        self.starts = Starts(self.problem, self.certifier, self.descent, self.alternation, self.record)
+        self.starts = Starts(self.problem, self.certifier, self.descent, self.alternation, self.record,
+                             new_engine=lambda: GapSearch(structure))
         self.fitness = Fitness(self.problem, self.certifier, self.descent, self.starts, self.record)
 
     @property

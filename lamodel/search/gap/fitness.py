@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..highs import INF
+from ..options import Stopped
 from .certify import Certifier
 from .descent import Descent
 from .program import GapProgram
@@ -32,6 +33,7 @@ class Fitness:
         self.N_assoc = None         # normal forces of the associative statics (set by the driver)
         self._ref_N = None
         self._carried_bases = None  # the last merged evaluation's final bases (see snapshot)
+        self.stopped = False        # a pure evaluation was stopped: this engine is unusable
 
     def reference_N(self):
         """Normal forces of the best certified state (else the associative ones)."""
@@ -78,34 +80,72 @@ class Fitness:
         counted in iterations); its LPs stop at ``deadline``. Returns (alpha, certified states in the order found
         (scaled units), LP solves, what it learned: its additions to the caches and the
         bases it ended with)."""
-        p = self.problem
-        p.restart(snap["bases"])
-        self.certifier.cache, self.descent.cache = dict(snap["certified"]), dict(snap["descended"])
-        self.record.forget()
-        found = []
-        self.record.on_state = found.append
-        lps, work = p.n_lps(), p.work()
-        with p.until(deadline):
+        with _PureRun(self, snap, deadline) as run:
             alpha = self.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
-        learned = dict(certified={k: v for k, v in self.certifier.cache.items() if k not in snap["certified"]},
-                       descended={k: v for k, v in self.descent.cache.items() if k not in snap["descended"]},
-                       bases=p.bases(), work=p.work() - work)
-        return alpha, found, p.n_lps() - lps, learned
+        return (alpha,) + run.outcome()
+
+    def start_pure(self, snap: dict, start: str, args, lps, work, deadline):
+        """A start of :class:`.starts.Starts` (``start``: ``"continuation"``, ``"from_zero"``
+        or ``"dilatancy"``, given ``args``) as a pure function of the snapshot (its bases,
+        caches and ``best`` state, below which a stalled start goes on), ending between two
+        solves after ``lps`` LP solves or ``work`` LP work of its own (None: no bound).
+        Returns (stopped: the deadline ended it, certified states in the order found, LP
+        solves, learned), what it certified before a stop included."""
+        with _PureRun(self, snap, deadline, keep_stopped=True) as run:
+            self.record.best = snap.get("best")
+            s = self.starts
+            s.work_limit = None if lps is None else self.problem.n_lps() + lps
+            s.work_bound = None if work is None else s.work() + work
+            try:
+                getattr(s, start)(*args)
+            finally:
+                s.work_limit = s.work_bound = None
+        return (run.stopped,) + run.outcome()
 
     def merge(self, states, lps, learned=None):
-        """What an evaluator found, taken here as if found here (in the order given:
-        callers merge evaluations in task order): its certified states, its LP count and
-        what it learned (certifications and descents by flow pattern, its final bases, for
-        later snapshots, and its LP work)."""
-        for st in states:
-            if self.record.on_state is not None:
-                self.record.on_state(st)
-            self.record.take(st)
-        self.problem.lps_elsewhere += lps
-        if learned is not None:
-            self.problem.work_elsewhere += learned.get("work", 0)
-            for mine, theirs in ((self.certifier.cache, learned["certified"]),
-                                 (self.descent.cache, learned["descended"])):
-                for key, value in theirs.items():
-                    mine.setdefault(key, value)
+        """What an evaluator found, taken here as if found here (:meth:`.starts.Starts.merge`;
+        callers merge evaluations in task order), and the bases it ended with, for later
+        snapshots."""
+        self.starts.merge(states, lps, learned)
+        if learned is not None and learned.get("bases") is not None:
             self._carried_bases = learned["bases"]
+
+
+class _PureRun:
+    """The context of a pure evaluation: the LPs restarted from the snapshot's bases, its
+    caches, an empty record, every certified state collected, ``deadline`` on every solve.
+    With ``keep_stopped`` a Stopped ends the block quietly (``stopped`` tells)."""
+
+    def __init__(self, fitness, snap, deadline, keep_stopped=False):
+        self.fitness, self.snap, self.deadline, self.keep_stopped = fitness, snap, deadline, keep_stopped
+        self.found, self.stopped = [], False
+
+    def __enter__(self):
+        f = self.fitness
+        p = f.problem
+        p.restart(self.snap["bases"])
+        f.certifier.cache, f.descent.cache = dict(self.snap["certified"]), dict(self.snap["descended"])
+        f.record.forget()
+        f.starts.forget()
+        f.record.on_state = self.found.append
+        self.lps, self.work = p.n_lps(), p.work()
+        self._until = p.until(self.deadline)
+        self._until.__enter__()
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        self._until.__exit__(kind, exc, tb)
+        if kind is not None and issubclass(kind, Stopped):
+            self.fitness.stopped = True
+            if self.keep_stopped:
+                self.stopped = True
+                return True
+        return False
+
+    def outcome(self):
+        """(certified states in the order found, LP solves, learned): what the search merges."""
+        f, p = self.fitness, self.fitness.problem
+        learned = dict(certified={k: v for k, v in f.certifier.cache.items() if k not in self.snap["certified"]},
+                       descended={k: v for k, v in f.descent.cache.items() if k not in self.snap["descended"]},
+                       bases=None if self.stopped else p.bases(), work=p.work() - self.work)
+        return self.found, p.n_lps() - self.lps, learned

@@ -151,9 +151,14 @@ class ScaledProblem(Scoped):
         return {name: lp.portable_basis() for name, lp in self.lps.items()}
 
     def restart(self, bases):
-        """Every LP on a new HiGHS object, warm from ``bases`` (:meth:`bases`)."""
+        """Every LP on a new HiGHS object, warm from ``bases`` (:meth:`bases`); the dilatant
+        LP forgotten (the next one starts from the statics LP's basis, as a search's first)."""
         for name, lp in self.lps.items():
             lp.restart(bases[name])
+        if self.dilatant is not None:
+            old = self.dilatant[1]
+            self.dilatant_done = [self.dilatant_done[0] + old.n_solves, self.dilatant_done[1] + old.work]
+            self.dilatant = None
 
     def save_bases(self, names=None):
         """The LPs' current bases (None: cold), by name (``names``: those only)."""

@@ -31,6 +31,7 @@ from .descent import Descent
 from .fallback import fallback
 from .program import GapProgram
 from .record import Record
+from .side_by_side import side_by_side
 
 
 def _least(best, st):
@@ -42,11 +43,13 @@ class Starts:
     """The starts of the search on a problem; each returns its least certified state (or None)."""
 
     def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, alternation: Alternation,
-                 record: Record):
+                 record: Record, new_engine=None):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
         self.alternate = alternation.alternate
-        self._from_zero = None  # (state,) once the chain from zero cohesion ran
-        self._dilatancy = None  # (state,) once the dilatancy continuation ran
+        #: a new engine of the same structure (:class:`~lamodel.search.gap.GapSearch`), for
+        #: the starts run as pure evaluations (:meth:`side_by_side`)
+        self.new_engine = new_engine
+        self.forget()
         #: LP solves, and LP work (:meth:`work`), at which the continuations
         #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
         #: without a time limit
@@ -55,6 +58,12 @@ class Starts:
         self.cycles = 0  # chains that met a cohesion again (see chain)
         #: LP work at which the first certificate ends (None: no bound) and whether it did
         self.first_bound, self.first_spent = None, False
+
+    def forget(self):
+        """No chain from zero cohesion nor dilatancy continuation has run (a pure evaluation
+        starts so)."""
+        self._from_zero = None  # (state,) once the chain from zero cohesion ran
+        self._dilatancy = None  # (state,) once the dilatancy continuation ran
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -165,21 +174,69 @@ class Starts:
         return best
 
     # -------------------------------------------------------------- continuations
-    def continuations(self, x_assoc):
-        """The continuation starts (one per ladder of RHO_CONTS, in turn) and the chain from
-        zero cohesion (:meth:`from_zero`); then the LPs get
-        back the bases they had before them (a cold LP is made cold again), so that what
-        follows (the GA, serial or pure evaluations from a snapshot) starts where it would
-        without them: measured, a 28-block wall's parallel GA certified nothing from the
-        bases the continuation left."""
-        saved = self.problem.save_bases()
-        for rhos in RHO_CONTS:
-            if self._spent():
-                break
-            self.continuation(x_assoc, rhos)
-        self.from_zero()
-        self.dilatancy(x_assoc)
-        self.problem.load_bases(saved)
+    def continuations(self, x_assoc, workers=1):
+        """The continuation starts (one per ladder of RHO_CONTS), then the chain from zero
+        cohesion (:meth:`from_zero`) and the dilatancy continuation (:meth:`dilatancy`) where
+        the first certificate did not run them: two rounds of independent starts, each run
+        :meth:`side_by_side` in up to ``workers`` threads; the second gets what the first
+        left of the work bounds. The LPs keep the bases they had before them (the starts run
+        on engines of their own), so that what follows (the GA, serial or pure evaluations
+        from a snapshot) starts where it would without them: measured, a 28-block wall's
+        parallel GA certified nothing from the bases the continuation left."""
+        self.side_by_side([("continuation", (x_assoc, rhos)) for rhos in RHO_CONTS], workers, "continuation")
+        rest = [(name, args) for name, args, ran in (("from_zero", (), self._from_zero),
+                                                      ("dilatancy", (x_assoc,), self._dilatancy)) if ran is None]
+        found = self.side_by_side(rest, workers, "zero cohesion and dilatancy")
+        for (name, _), best in zip(rest, found):
+            setattr(self, "_" + name, (best,))  # once a search
+
+    def side_by_side(self, starts, workers=1, phase="starts"):
+        """Independent ``starts`` (each ``(method, args)`` of this class) from this search's
+        state, side by side in up to ``workers`` threads
+        (:func:`~lamodel.search.gap.side_by_side.side_by_side`): each a pure function of a
+        snapshot (bases, caches, best state) with an equal share of the work bounds left,
+        merged in the order given, so that the answer is the same with any number of
+        threads. Measured on the 1,020-block running-bond wall (mu 0.65): the two ladders of
+        RHO_CONTS took 25.7 and 36.2 s one after the other and 26.4 and 37.3 s side by side on
+        two cores (the same states and LP solves). Returns the least certified state of each
+        start (None: none); raises Stopped, after merging, where the deadline ended them."""
+        if not starts or self._spent():
+            return [None] * len(starts)
+        t = time.perf_counter()
+        p = self.problem
+        snap = dict(bases=p.bases(), certified=dict(self.certifier.cache), descended=dict(self.descent.cache),
+                    best=self.record.best)
+        k = len(starts)
+        lps = None if self.work_limit is None else max(0, self.work_limit - p.n_lps()) // k
+        work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
+        calls = [("start_pure", (snap, name, args, lps, work, p.deadline)) for name, args in starts]
+        try:
+            outcomes = side_by_side(self.new_engine, calls, workers)
+        finally:
+            self.record.phase(phase, t)
+        found = []
+        for _, states, n, learned in outcomes:
+            self.merge(states, n, learned)
+            found.append(min(states, key=lambda st: st.alpha, default=None))
+        if any(stopped for stopped, *_ in outcomes) and p.deadline.expired():
+            raise Stopped()
+        return found
+
+    def merge(self, states, lps, learned=None):
+        """What a pure evaluation found, taken here as if found here (callers merge in task
+        order): its certified states, its LP solves and work, and its additions to the caches
+        of certifications and descents by flow pattern."""
+        for st in states:
+            if self.record.on_state is not None:
+                self.record.on_state(st)
+            self.record.take(st)
+        self.problem.lps_elsewhere += lps
+        if learned is not None:
+            self.problem.work_elsewhere += learned.get("work", 0)
+            for mine, theirs in ((self.certifier.cache, learned["certified"]),
+                                 (self.descent.cache, learned["descended"])):
+                for key, value in theirs.items():
+                    mine.setdefault(key, value)
 
     def continuation(self, x_assoc, rhos=RHO_CONTS[0]):
         """A start from the associative statics on the penalty ladder ``rhos``: a
