@@ -61,7 +61,8 @@ RHO_HIGH = (1e5, 1e6, 1e7)
 #: move far from the associative state's mechanism. Measured at 1020 blocks: the main ladder
 #: certifies 0.445755; these stall near 0.4448 and, pushed on with RHO_HIGH, certify
 #: 0.444911-0.444968 about half of the time (the degenerate LPs' vertices depend on their warm
-#: bases), hence two ladders.
+#: bases), hence two ladders. They run side by side, one a lane (Starts.continuations), each
+#: from the state after the first phase with half the work left.
 RHO_CONTS = ((10.0, 100.0, 1e3, 1e4), (30.0, 300.0, 1e3, 1e4))
 #: A mechanism whose gap is below GAP_CERTIFY * max(1, alpha) is worth a certification LP.
 GAP_CERTIFY = 1e-6

@@ -84,20 +84,21 @@ class Fitness:
             alpha = self.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
         return (alpha,) + run.outcome()
 
-    def start_pure(self, snap: dict, start: str, args, lps, work, deadline):
-        """A start of :class:`.starts.Starts` (``start``: ``"continuation"``, ``"from_zero"``
-        or ``"dilatancy"``, given ``args``) as a pure function of the snapshot (its bases,
-        caches and ``best`` state, below which a stalled start goes on), ending between two
-        solves after ``lps`` LP solves or ``work`` LP work of its own (None: no bound).
-        Returns (stopped: the deadline ended it, certified states in the order found, LP
-        solves, learned), what it certified before a stop included."""
+    def starts_pure(self, snap: dict, starts, lps, work, deadline):
+        """Starts of :class:`.starts.Starts` run in turn (``starts``: ``(method, args)`` each,
+        e.g. ``("continuation", (x_assoc, rhos))``) as a pure function of the snapshot (its
+        bases, caches and ``best`` state, below which a stalled start goes on), ending between
+        two solves after ``lps`` LP solves or ``work`` LP work of their own in all (None: no
+        bound). Returns (stopped: the deadline ended them, certified states in the order
+        found, LP solves, learned), what they certified before a stop included."""
         with _PureRun(self, snap, deadline, keep_stopped=True) as run:
             self.record.best = snap.get("best")
             s = self.starts
             s.work_limit = None if lps is None else self.problem.n_lps() + lps
             s.work_bound = None if work is None else s.work() + work
             try:
-                getattr(s, start)(*args)
+                for name, args in starts:
+                    getattr(s, name)(*args)
             finally:
                 s.work_limit = s.work_bound = None
         return (run.stopped,) + run.outcome()

@@ -12,12 +12,13 @@ import queue
 from concurrent.futures import ThreadPoolExecutor
 
 
-def side_by_side(new_engine, calls, workers: int):
+def side_by_side(new_engine, calls, workers: int, running=None):
     """The outcomes of ``calls`` (each ``(method, args)`` of an engine's ``fitness``), in
     call order, run in up to ``workers`` threads (1: one after the other in this thread)
     on engines made by ``new_engine()``, an engine reused by the next call once its
     evaluation ends unstopped. Each evaluation stops at the deadline among its arguments
-    (a Ctrl-C reaches it there); this waits for them all."""
+    (a Ctrl-C reaches it there); this waits for them all. ``running`` (a dict), if given,
+    holds each engine at work and its LP work when it began (for a progress display)."""
     idle = queue.SimpleQueue()
 
     def run(method, args):
@@ -25,7 +26,13 @@ def side_by_side(new_engine, calls, workers: int):
             engine = idle.get_nowait()
         except queue.Empty:
             engine = new_engine()
-        outcome = getattr(engine.fitness, method)(*args)
+        if running is not None:
+            running[id(engine)] = (engine, engine.problem.work())
+        try:
+            outcome = getattr(engine.fitness, method)(*args)
+        finally:
+            if running is not None:
+                running.pop(id(engine), None)
         if not engine.fitness.stopped:
             idle.put(engine)  # not after a stop: an engine is unusable after it
         return outcome

@@ -49,6 +49,7 @@ class Starts:
         #: a new engine of the same structure (:class:`~lamodel.search.gap.GapSearch`), for
         #: the starts run as pure evaluations (:meth:`side_by_side`)
         self.new_engine = new_engine
+        self._running = {}  # engines running lanes (side_by_side), for budget_share
         self.forget()
         #: LP solves, and LP work (:meth:`work`), at which the continuations
         #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
@@ -175,52 +176,55 @@ class Starts:
 
     # -------------------------------------------------------------- continuations
     def continuations(self, x_assoc, workers=1):
-        """The continuation starts (one per ladder of RHO_CONTS), then the chain from zero
-        cohesion (:meth:`from_zero`) and the dilatancy continuation (:meth:`dilatancy`) where
-        the first certificate did not run them: two rounds of independent starts, each run
-        :meth:`side_by_side` in up to ``workers`` threads; the second gets what the first
-        left of the work bounds. The LPs keep the bases they had before them (the starts run
-        on engines of their own), so that what follows (the GA, serial or pure evaluations
-        from a snapshot) starts where it would without them: measured, a 28-block wall's
-        parallel GA certified nothing from the bases the continuation left."""
-        self.side_by_side([("continuation", (x_assoc, rhos)) for rhos in RHO_CONTS], workers, "continuation")
-        rest = [(name, args) for name, args, ran in (("from_zero", (), self._from_zero),
-                                                      ("dilatancy", (x_assoc,), self._dilatancy)) if ran is None]
-        found = self.side_by_side(rest, workers, "zero cohesion and dilatancy")
-        for (name, _), best in zip(rest, found):
-            setattr(self, "_" + name, (best,))  # once a search
+        """The continuation starts (one per ladder of RHO_CONTS), the chain from zero cohesion
+        (:meth:`from_zero`) and the dilatancy continuation (:meth:`dilatancy`) where the first
+        certificate did not run them, in one lane per ladder: the ladder, then the chain (first
+        lane) or the dilatancy continuation (second lane) on the same engine, warm from where
+        the ladder ended. The lanes run :meth:`side_by_side`. The LPs keep the bases they had
+        before them (the lanes run on engines of their own), so that what follows (the GA,
+        serial or pure evaluations from a snapshot) starts where it would without them:
+        measured, a 28-block wall's parallel GA certified nothing from the bases the
+        continuation left."""
+        lanes = [[("continuation", (x_assoc, rhos))] for rhos in RHO_CONTS]
+        after = [("from_zero", (), self._from_zero), ("dilatancy", (x_assoc,), self._dilatancy)]
+        for lane, (name, args, ran) in zip(lanes, after):
+            if ran is None:
+                lane.append((name, args))
+        found = self.side_by_side(lanes, workers)
+        for lane, best in zip(lanes, found):
+            for name, _ in lane[1:]:
+                setattr(self, "_" + name, (best,))  # once a search (the lane's least state)
 
-    def side_by_side(self, starts, workers=1, phase="starts"):
-        """Independent ``starts`` (each ``(method, args)`` of this class) from this search's
-        state, side by side in up to ``workers`` threads
-        (:func:`~lamodel.search.gap.side_by_side.side_by_side`): each a pure function of a
-        snapshot (bases, caches, best state) with an equal share of the work bounds left,
-        merged in the order given, so that the answer is the same with any number of
-        threads. Measured on the 1,020-block running-bond wall (mu 0.65): the two ladders of
-        RHO_CONTS took 25.7 and 36.2 s one after the other and 26.4 and 37.3 s side by side on
-        two cores (the same states and LP solves). Returns the least certified state of each
-        start (None: none); raises Stopped, after merging, where the deadline ended them."""
-        if not starts or self._spent():
-            return [None] * len(starts)
+    def side_by_side(self, lanes, workers=1, phase="continuation"):
+        """Independent ``lanes`` of starts (each a list of ``(method, args)`` of this class,
+        run in turn on one engine) from this search's state, side by side in up to
+        ``workers`` threads (:func:`~lamodel.search.gap.side_by_side.side_by_side`): each lane
+        a pure function of a snapshot (bases, caches, best state) with an equal share of the
+        work bounds left, merged in the order given, so that the answer is the same with any
+        number of threads. Measured on the 1,020-block running-bond wall (mu 0.65): the two
+        ladders of RHO_CONTS took 25.7 and 36.2 s one after the other and 26.4 and 37.3 s side
+        by side on two cores (the same states and LP solves). Returns the least certified
+        state of each lane (None: none); raises Stopped, after merging, where the deadline
+        ended them."""
+        if not lanes or self._spent():
+            return [None] * len(lanes)
         t = time.perf_counter()
         p = self.problem
         snap = dict(bases=p.bases(), certified=dict(self.certifier.cache), descended=dict(self.descent.cache),
                     best=self.record.best)
-        k = len(starts)
+        k = len(lanes)
         lps = None if self.work_limit is None else max(0, self.work_limit - p.n_lps()) // k
         work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
-        calls = [("start_pure", (snap, name, args, lps, work, p.deadline)) for name, args in starts]
+        calls = [("starts_pure", (snap, lane, lps, work, p.deadline)) for lane in lanes]
         try:
-            outcomes = side_by_side(self.new_engine, calls, workers)
+            outcomes = side_by_side(self.new_engine, calls, workers, running=self._running)
         finally:
             self.record.phase(phase, t)
-        found = []
         for _, states, n, learned in outcomes:
             self.merge(states, n, learned)
-            found.append(min(states, key=lambda st: st.alpha, default=None))
         if any(stopped for stopped, *_ in outcomes) and p.deadline.expired():
             raise Stopped()
-        return found
+        return [min(states, key=lambda st: st.alpha, default=None) for _, states, _, _ in outcomes]
 
     def merge(self, states, lps, learned=None):
         """What a pure evaluation found, taken here as if found here (callers merge in task
@@ -277,11 +281,13 @@ class Starts:
         return self.problem.work()
 
     def budget_share(self):
-        """The share of the driver's work bounds spent so far: of the one closest to
-        ending the search (LP solves or LP work), during the first certificate of its own
-        bound; None where no bound is set (a time limit)."""
+        """The share of the driver's work bounds spent so far (a progress display's: the
+        continuation lanes' work under way counted): of the one closest to ending the search
+        (LP solves or LP work), during the first certificate of its own bound; None where
+        no bound is set (a time limit)."""
         if self.work_bound is not None:
-            shares = [self.work() / self.work_bound]
+            lanes = sum(engine.problem.work() - begun for engine, begun in list(self._running.values()))
+            shares = [(self.work() + lanes) / self.work_bound]
             if self.work_limit:
                 shares.append(self.problem.n_lps() / self.work_limit)
             return max(shares)

@@ -78,3 +78,57 @@ def test_the_continuations_stop_at_the_work_bound():
     lps = e.n_lps()
     e.starts.continuations(x0)
     assert e.n_lps() == lps
+
+
+def test_the_continuation_lanes_give_the_same_answer_with_any_number_of_threads():
+    """The continuation lanes (a ladder each, then the chain from zero cohesion or the
+    dilatancy continuation) are pure functions of the search's state and of their share of
+    the work left: one thread or two, the same certified states in the same order, the same
+    LP solves and work counted, the same caches learned."""
+    s = bond(6, width=8, mu=1.0)
+    outcomes = []
+    for workers in (1, 2):
+        e = GapSearch(s)
+        _, _, x0 = e.starts.associative()
+        e.starts.first_certificate(x0)
+        e.starts.stable()
+        found = []
+        e.record.on_state = found.append
+        e.starts.continuations(x0, workers=workers)
+        outcomes.append((e, [(st.alpha, st.source) for st in found]))
+    (a, found_a), (b, found_b) = outcomes
+    assert found_a and found_a == found_b
+    assert a.record.alpha() == b.record.alpha() <= min(alpha for alpha, _ in found_a)
+    assert (a.n_lps(), a.starts.work()) == (b.n_lps(), b.starts.work())
+    assert a.certifier.cache.keys() == b.certifier.cache.keys()
+    assert a.starts._from_zero is not None and a.starts._dilatancy is not None
+
+
+def test_a_stop_during_the_lanes_keeps_what_they_certified():
+    """A stop (Ctrl-C, the time limit) while the lanes run side by side reaches both
+    within a moment; what they certified before it is taken, then Stopped is raised, and
+    the search's own LPs (never touched by the lanes) stay usable."""
+    import threading
+    import time
+
+    import pytest
+
+    from lamodel.search.options import Deadline, Stopped
+
+    s = bond(10, width=25, mu=0.9)
+    stop = threading.Event()
+    e = GapSearch(s, deadline=Deadline(None, stop.is_set))
+    _, _, x0 = e.starts.associative()
+    e.starts.first_certificate(x0)
+    found = []
+    e.record.on_state = found.append
+    timer = threading.Timer(1.0, stop.set)
+    timer.start()
+    t = time.perf_counter()
+    with pytest.raises(Stopped):
+        e.starts.continuations(x0, workers=2)
+    assert time.perf_counter() - t < 5.0
+    assert all(e.record.alpha() <= st.alpha for st in found)
+    assert not any(lp.abandoned for lp in e.problem.lps.values())
+    stop.clear()
+    assert e.problem.statics()[0] == "optimal"
