@@ -14,10 +14,12 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    where the alternation stalls at a partial optimum (a mechanism no statics can hold), the
    seed's fixed-point chain from there (:mod:`.gap.fallback`).
 3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
-   Then two more starts from the associative statics: the same alternation with the
-   penalty rho raised from 10 and from 30 (:meth:`.gap.starts.Starts.continuations`), which
-   reach other collapse states than the first (1020 blocks: 0.444923 against 0.445755),
-   and the seed's chain from zero cohesion (:meth:`.gap.starts.Starts.from_zero`).
+   Then two lanes side by side (:meth:`.gap.starts.Starts.continuations`): in each, a
+   start from the associative statics, the same alternation with the penalty rho raised
+   from 10 or from 30, which reach other collapse states than the first (1020 blocks:
+   0.444967 against 0.445755), then the seed's chain from zero cohesion
+   (:meth:`.gap.starts.Starts.from_zero`) or the dilatancy continuation; each lane a pure
+   function of the search's state, so the answer does not depend on the threads.
 4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
    best certified state. Fitness and local search: :meth:`.gap.fitness.Fitness.evaluate`
    (the cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each

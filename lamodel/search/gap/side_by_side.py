@@ -1,6 +1,6 @@
 """Independent starts side by side: pure evaluations on engines of their own, in threads.
 
-A pure evaluation (:class:`.fitness.Fitness`: ``evaluate_pure``, ``start_pure``) depends on
+A pure evaluation (:class:`.fitness.Fitness`: ``evaluate_pure``, ``starts_pure``) depends on
 its arguments alone (a snapshot of the search, what to run, its share of the work
 bounds), so the outcomes, taken in call order, are the same with any number of threads.
 HiGHS releases the GIL while it solves: two starts take about the time of the longer one
