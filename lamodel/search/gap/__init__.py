@@ -13,8 +13,9 @@ Its pieces, in the order the algorithm runs them (each an object handed the ones
 4. :mod:`.descent` — from a certified state to lower ones;
 5. :mod:`.alternation` — the gap alternation (gap, hold and near-flow steps);
 6. :mod:`.starts` — where alternations start: the associative statics, the rescue, the
-   continuations, near-active rows, perturbed cohesions and the seed's chain; where an
-   alternation stalls without a certificate, :mod:`.fallback` (the chain from the stall);
+   continuations (in lanes side by side, :mod:`.side_by_side`), near-active rows,
+   perturbed cohesions and the seed's chain; where an alternation stalls without a
+   certificate, :mod:`.fallback` (the chain from the stall);
 7. :mod:`.fitness` — the GA's evaluation of a genome, and its snapshots.
 
 :class:`GapSearch` builds them for one structure; :func:`lamodel.search.driver.solve` runs

@@ -7,7 +7,8 @@
 3. :meth:`Starts.stable`: some statics carries the dead load alone.
 4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS), the
    seed's chain from zero cohesion (:meth:`Starts.from_zero`) and the dilatancy
-   continuation (:meth:`Starts.dilatancy`), each once a search.
+   continuation (:meth:`Starts.dilatancy`), each once a search, in two lanes side by side
+   (:meth:`Starts.side_by_side`: pure evaluations on engines of their own).
 5. The GA's evaluations (:mod:`.fitness`): :meth:`Starts.perturbed` cohesions and the
    seed's fixed-point :meth:`Starts.chain`.
 
