@@ -19,7 +19,6 @@ alpha, the tables and the LP count are the same with 1, 2 or 8 threads and on Da
 from __future__ import annotations
 
 import math
-import queue
 import threading
 import uuid
 
@@ -35,25 +34,19 @@ def parallel(opt) -> bool:
 
 
 class Evaluators:
-    """Engines of one structure for pure evaluations, built on first need and reused (a
-    HiGHS model is built once; each evaluation only re-warms it from the snapshot): one
-    per evaluation running at a time. It is also what a Dask worker keeps per structure
+    """Engines of one structure for pure evaluations (:class:`.gap.side_by_side.Engines`).
+    It is also what a Dask worker keeps per structure
     (:func:`lamodel.search.executor.context`), so its threads share the engines."""
 
     def __init__(self, structure):
+        from .gap import GapSearch
+        from .gap.side_by_side import Engines
         self.structure = structure
-        self.idle = queue.SimpleQueue()
+        self.engines = Engines(lambda: GapSearch(structure))
 
     def evaluate(self, snap: dict, genome, chain: int, deadline: Deadline):
         """(alpha, states, LP solves, learned) of one genome; raises Stopped at the deadline."""
-        from .gap import GapSearch
-        try:
-            engine = self.idle.get_nowait()
-        except queue.Empty:
-            engine = GapSearch(self.structure)
-        outcome = engine.fitness.evaluate_pure(snap, genome, chain, deadline)
-        self.idle.put(engine)  # not after Stopped: an engine is unusable after it
-        return outcome
+        return self.engines.run("evaluate_pure", snap, genome, chain, deadline)
 
 
 def _on_dask_worker(key, structure, snap, genome, chain, deadline):

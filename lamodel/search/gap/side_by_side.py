@@ -12,34 +12,45 @@ import queue
 from concurrent.futures import ThreadPoolExecutor
 
 
-def side_by_side(new_engine, calls, workers: int, running=None):
-    """The outcomes of ``calls`` (each ``(method, args)`` of an engine's ``fitness``), in
-    call order, run in up to ``workers`` threads (1: one after the other in this thread)
-    on engines made by ``new_engine()``, an engine reused by the next call once its
-    evaluation ends unstopped. Each evaluation stops at the deadline among its arguments
-    (a Ctrl-C reaches it there); this waits for them all. ``running`` (a dict), if given,
-    holds each engine at work and its LP work when it began (for a progress display)."""
-    idle = queue.SimpleQueue()
+class Engines:
+    """Engines of one structure for pure evaluations, made by ``new_engine()`` on first need
+    and reused (a HiGHS model is built once; each evaluation only re-warms it from its
+    snapshot): one per evaluation running at a time. ``running`` (a dict), if given, holds
+    each engine at work and its LP work when it began (for a progress display)."""
 
-    def run(method, args):
+    def __init__(self, new_engine, running=None):
+        self.new_engine, self.running = new_engine, running
+        self.idle = queue.SimpleQueue()
+
+    def run(self, method, *args):
+        """``engine.fitness.<method>(*args)`` on an idle engine; the engine is reused
+        unless the evaluation was stopped (an engine is unusable after a stop)."""
         try:
-            engine = idle.get_nowait()
+            engine = self.idle.get_nowait()
         except queue.Empty:
-            engine = new_engine()
-        if running is not None:
-            running[id(engine)] = (engine, engine.problem.work())
+            engine = self.new_engine()
+        if self.running is not None:
+            self.running[id(engine)] = (engine, engine.problem.work())
         try:
             outcome = getattr(engine.fitness, method)(*args)
         finally:
-            if running is not None:
-                running.pop(id(engine), None)
+            if self.running is not None:
+                self.running.pop(id(engine), None)
         if not engine.fitness.stopped:
-            idle.put(engine)  # not after a stop: an engine is unusable after it
+            self.idle.put(engine)
         return outcome
 
+
+def side_by_side(new_engine, calls, workers: int, running=None):
+    """The outcomes of ``calls`` (each ``(method, args)`` of an engine's ``fitness``), in
+    call order, run in up to ``workers`` threads (1: one after the other in this thread)
+    on :class:`Engines` made by ``new_engine()``. Each evaluation stops at the deadline
+    among its arguments (a Ctrl-C reaches it there); this waits for them all. ``running``:
+    see :class:`Engines`."""
+    engines = Engines(new_engine, running)
     workers = max(1, min(int(workers), len(calls)))
     if workers == 1:
-        return [run(method, args) for method, args in calls]
+        return [engines.run(method, *args) for method, args in calls]
     with ThreadPoolExecutor(workers, thread_name_prefix="lamodel-start") as pool:
-        futures = [pool.submit(run, method, args) for method, args in calls]
+        futures = [pool.submit(engines.run, method, *args) for method, args in calls]
         return [future.result() for future in futures]
