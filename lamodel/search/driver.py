@@ -10,9 +10,10 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    the gap alternation (:mod:`.gap.alternation`: mechanism step, statics step on
    ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be held
    (:mod:`.gap.certify`); the certified state is descended (:mod:`.gap.descent`); if
-   nothing is certified, the rescue (:meth:`.gap.starts.Starts.first_certificate`), then,
-   where the alternation stalls at a partial optimum (a mechanism no statics can hold), the
-   seed's fixed-point chain from there (:mod:`.gap.fallback`).
+   nothing is certified (the alternation stalls at a partial optimum: a mechanism no
+   statics can hold), two fallback lanes side by side (:meth:`.gap.starts.Starts.fallbacks`):
+   the rescue and the seed's chains (from zero cohesion, and from the stall:
+   :mod:`.gap.fallback`), and the dilatancy continuation.
 3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
    Then two lanes side by side (:meth:`.gap.starts.Starts.continuations`): in each, a
    start from the associative statics, the same alternation with the penalty rho raised
@@ -220,7 +221,7 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
         progress.phase("first certificate")
         if opt.time_limit is None:
             starts.first_bound = FIRST_WORK * engine.problem.work_bound()
-        starts.first_certificate(x0)
+        starts.first_certificate(x0, workers=opt.workers or _cores())
         # (stable() gives the statics LP back its basis near the collapse states: the GA's
         # evaluations, pure ones included, start from there, not from alpha = 0)
         if not starts.stable():

@@ -148,5 +148,6 @@ class _PureRun:
         f, p = self.fitness, self.fitness.problem
         learned = dict(certified={k: v for k, v in f.certifier.cache.items() if k not in self.snap["certified"]},
                        descended={k: v for k, v in f.descent.cache.items() if k not in self.snap["descended"]},
-                       bases=None if self.stopped else p.bases(), work=p.work() - self.work)
+                       bases=None if self.stopped else p.bases(), work=p.work() - self.work,
+                       ran=f.starts.ran())
         return self.found, p.n_lps() - self.lps, learned

@@ -54,3 +54,23 @@ def side_by_side(new_engine, calls, workers: int, running=None):
     with ThreadPoolExecutor(workers, thread_name_prefix="lamodel-start") as pool:
         futures = [pool.submit(engines.run, method, *args) for method, args in calls]
         return [future.result() for future in futures]
+
+
+def alongside(here, new_engine, calls, workers: int, running=None):
+    """``here()`` in this thread (on the search's own engine) while the pure ``calls`` run
+    in up to ``workers - 1`` other threads (one worker: after it); the calls' outcomes in
+    call order, once ``here()`` and they have all ended, whatever ``here()`` raised (it is
+    raised after them). ``running``: see :class:`Engines`."""
+    if int(workers) <= 1:
+        try:
+            here()
+        finally:
+            outcomes = side_by_side(new_engine, calls, 1, running)
+        return outcomes
+    with ThreadPoolExecutor(1, thread_name_prefix="lamodel-lanes") as pool:
+        future = pool.submit(side_by_side, new_engine, calls, int(workers) - 1, running)
+        try:
+            here()
+        finally:
+            outcomes = future.result()
+    return outcomes

@@ -2,13 +2,16 @@
 
 1. :meth:`Starts.associative`: max alpha over S, the associative bound and first statics.
 2. :meth:`Starts.first_certificate`: the alternation on RHO_MAIN from there and, if it
-   certifies nothing, :meth:`Starts.rescue`, the seed's chain from zero cohesion (cold),
-   the fixed-point chain from the stall (:mod:`.fallback`), the dilatancy continuation.
+   certifies nothing, two lanes side by side (:meth:`Starts.fallbacks`): the rescue
+   (:meth:`Starts.rescue`), the seed's chain from zero cohesion (cold) and the fixed-point
+   chain from the stall (:meth:`Starts.chains`, :mod:`.fallback`); and the dilatancy
+   continuation.
 3. :meth:`Starts.stable`: some statics carries the dead load alone.
 4. :meth:`Starts.continuations`: the penalty raised from a low rho (RHO_CONTS), the
    seed's chain from zero cohesion (:meth:`Starts.from_zero`) and the dilatancy
    continuation (:meth:`Starts.dilatancy`), each once a search, in two lanes side by side
-   (:meth:`Starts.side_by_side`: pure evaluations on engines of their own).
+   (:meth:`Starts.side_by_side`: pure evaluations on engines of their own), where the
+   first certificate's lanes did not run them.
 5. The GA's evaluations (:mod:`.fitness`): :meth:`Starts.perturbed` cohesions and the
    seed's fixed-point :meth:`Starts.chain`.
 
@@ -32,7 +35,7 @@ from .descent import Descent
 from .fallback import fallback
 from .program import GapProgram
 from .record import Record
-from .side_by_side import side_by_side
+from .side_by_side import alongside, side_by_side
 
 
 def _least(best, st):
@@ -51,6 +54,8 @@ class Starts:
         #: the starts run as pure evaluations (:meth:`side_by_side`)
         self.new_engine = new_engine
         self._running = {}  # engines running lanes (side_by_side), for budget_share
+        self._lane_from = 0.0  # the search's work when the first certificate's dilatancy lane began
+        self._real_deadline = None  # the search's deadline outside the first certificate's bound
         self.forget()
         #: LP solves, and LP work (:meth:`work`), at which the continuations
         #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
@@ -66,6 +71,12 @@ class Starts:
         starts so)."""
         self._from_zero = None  # (state,) once the chain from zero cohesion ran
         self._dilatancy = None  # (state,) once the dilatancy continuation ran
+
+    def ran(self) -> dict:
+        """The once-a-search starts that ran, each with its least certified state:
+        ``{"from_zero": (state,), ...}`` (what a pure evaluation tells :meth:`merge`)."""
+        return {name: getattr(self, "_" + name) for name in ("from_zero", "dilatancy")
+                if getattr(self, "_" + name) is not None}
 
     def _stalled_below_best(self, x, best):
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
@@ -110,53 +121,125 @@ class Starts:
             self.record.phase("stability", t)
 
     # ------------------------------------------------------------ first certificate
-    def first_certificate(self, x_assoc):
-        """The first certificate (:meth:`_first_certificate`); with ``first_bound`` set
-        (the driver's, without a time limit) it ends between two solves once the search's
-        work reaches it (``first_spent`` then tells so)."""
+    def first_certificate(self, x_assoc, workers=1):
+        """The first certificate (:meth:`_first_certificate`; ``workers``: threads for its
+        fallback lanes); with ``first_bound`` set (the driver's, without a time limit) it
+        ends between two solves once the search's work reaches it (``first_spent`` then
+        tells so)."""
+        self._real_deadline = self.problem.deadline  # the fallback lanes stop there, not at our bound
         if self.first_bound is None:
-            return self._first_certificate(x_assoc)
+            return self._first_certificate(x_assoc, workers)
         try:
             with self.problem.until(self.bounded(lambda: self.work() >= self.first_bound)):
-                self._first_certificate(x_assoc)
+                self._first_certificate(x_assoc, workers)
         except Stopped:
             if self.problem.deadline.expired():  # the time limit or a stop: the search's to handle
                 raise
             self.first_spent = True
+        if self.record.best is None and self.work() >= self.first_bound:
+            self.first_spent = True  # the fallback lanes spent it
 
-    def _first_certificate(self, x_assoc):
+    def _first_certificate(self, x_assoc, workers=1):
         """The gap alternation from the associative statics and, if it certifies nothing,
-        the rescue from where it stalled, then the seed's chain from zero cohesion with its
-        cohesive LP cold, then the fixed-point chain from the stall and from the
-        associative statics (:mod:`.fallback`), then the dilatancy continuation.
+        the fallbacks (:meth:`fallbacks`): two lanes side by side, the rescue from where it
+        stalled and the chains (from zero cohesion, cold, then the fixed-point chain from
+        the stall and from the associative statics, :mod:`.fallback`), and the dilatancy
+        continuation."""
+        _, x = self.alternate(x_assoc, source="gap")
+        if self.record.best is None:
+            self.fallbacks(x_assoc, x, workers)
+
+    def fallbacks(self, x_assoc, x_stall, workers=1):
+        """Where the gap alternation certifies nothing: two lanes side by side, each with
+        the whole first-certificate work left (they are different methods, either may be
+        the one that certifies): :meth:`chains` (the rescue, then the seed's chains) on
+        this engine, in this thread, as if alone; the dilatancy continuation
+        (:meth:`dilatancy`) as a pure evaluation from a snapshot taken before (an engine of
+        its own, another thread with ``workers`` > 1, else after the chains; its work
+        bound its own, so the answer does not depend on the threads), merged after the
+        chains; both then count as run (once a search). The search goes on from the bases
+        of the dilatancy lane where it certified a lower alpha than the chains.
+
+        Measured (default runs, work in units of the default work bound, whole process on
+        two cores). One after the other, each stopping the first certificate where it
+        certified, the dilatancy continuation last: the 1,020-block running-bond walls at
+        mu = 0.9 and 1.0 got theirs from the chain from zero cohesion at 3.7 and 4.0 units,
+        but on the 2,040-block wall at mu = 0.9 the rescue alone spent 5.4 of the 8 units
+        and the chains the rest, nothing certified (1,127 s); the dilatancy continuation
+        certifies that wall after 5.7 more units from the rescue's bases, after 4.3 from the
+        stalled alternation's. With the continuation right after the rescue, the 1,020-block
+        wall at mu = 0.9 got only 0.523750, at 7.4 units (529 s; the chain from zero then
+        certified nothing on the bases the continuation left). In lanes: the 2,040-block
+        wall at mu = 0.9 certified 0.459521 (the dilatancy lane, at 4.7 units; 994 s, the
+        lane running on to its bound), the 1,020-block walls at mu = 0.9 and 1.0 the same
+        0.522916 and 0.549900 from the chains (255 and 206 s; 192 and 220 s before, the
+        dilatancy lane the longer one at mu = 0.9). The chains run on this engine, as
+        before: run as a pure evaluation from a snapshot (its LPs restarted from the same
+        bases) they left the 1,020-block wall at mu = 1.0 uncertified."""
+        self._lane_from = self.work()
+        left = None if self.first_bound is None else max(0.0, self.first_bound - self._lane_from)
+        t = time.perf_counter()
+        p = self.problem
+        raised = []
+
+        def here():
+            try:
+                self.chains(x_assoc, x_stall)
+            except Stopped as stop:  # our bound or the deadline: after the other lane is merged
+                raised.append(stop)
+
+        snap = self.snapshot()
+        real = self._real_deadline or p.deadline
+        calls = [("starts_pure", (snap, [("dilatancy", (x_assoc,))], None, left, real))]
+        try:
+            outcomes = alongside(here, self.new_engine, calls, workers, running=self._running)
+        finally:
+            self.record.phase("first certificate", t)
+        mine = self.record.best
+        for _, states, n, learned in outcomes:
+            self.merge(states, n, learned)
+        there = min(outcomes[0][1], key=lambda st: st.alpha, default=None)
+        if there is not None and (mine is None or there.alpha < mine.alpha) and outcomes[0][3]["bases"] is not None:
+            p.restart(outcomes[0][3]["bases"])  # go on from the lane that certified the least alpha
+        if raised:
+            raise raised[0]
+        if outcomes[0][0] and real.expired():
+            raise Stopped()
+
+    def chains(self, x_assoc, x_stall):
+        """The rescue (:meth:`rescue`) and, if it certified nothing, the seed's chain from
+        zero cohesion with its cohesive LP cold, then the fixed-point chain from the stall and
+        from the associative statics (:mod:`.fallback`); they end at the work bounds.
+        Returns the least certified state (or None).
 
         Cold: the cohesive LP's statics is massively degenerate and the chain follows the
         optimum HiGHS returns; from the bases the stalled alternations left, the chain
         stays where they stalled (the 1,020-block running-bond walls at mu = 0.9 and 1.0:
         nothing certified in 317 and 744 s), while a cold start (interior point and
         crossover on large LPs) owes nothing to them: the default run certifies both
-        (0.522916 and 0.549900, whole process 243 and 256 s). Only
-        here, where nothing is certified yet: warm from a certified state's bases the chain
-        from zero finds lower states (the 33-block running-bond wall at mu = 1.0: 0.607903
-        warm, 0.685714 cold).
-
-        The dilatancy continuation last. Measured with it right after the rescue (default
-        runs, work in units of the default work bound): the 2,040-block running-bond wall
-        at mu = 0.9 certified 0.460249 at 8.0 (the end of the first certificate's bound;
-        1,147 s whole process), but the 1,020-block wall at mu = 0.9 only 0.523750 at 7.4
-        (529 s, from the fixed-point chain; 0.522916 at 3.7 in this order), the chain from
-        zero certifying nothing on the bases the continuation left, and the 2,040-block
-        wall at mu = 1.0 still nothing (1,329 s)."""
-        _, x = self.alternate(x_assoc, source="gap")
+        (0.522916 and 0.549900, whole process 243 and 256 s). Only here, where nothing is
+        certified yet: warm from a certified state's bases the chain from zero finds lower
+        states (the 33-block running-bond wall at mu = 1.0: 0.607903 warm, 0.685714 cold)."""
+        best = None
+        try:
+            with self.problem.until(self.bounded()):
+                best = self.rescue(x_assoc, x_stall)
+        except Stopped:
+            if self.problem.deadline.expired():
+                raise
+            return self.record.best
+        if self.record.best is not None:
+            return best
+        self.problem.load_bases({name: None for name in self.problem.save_bases(("coh",))})
+        best = self.from_zero()
         if self.record.best is None:
-            self.rescue(x_assoc, x)
-        if self.record.best is None:
-            self.problem.load_bases({name: None for name in self.problem.save_bases(("coh",))})
-            self.from_zero()
-        if self.record.best is None:
-            fallback(self, (x, x_assoc))
-        if self.record.best is None:
-            self.dilatancy(x_assoc)
+            try:
+                with self.problem.until(self.bounded()):
+                    best = _least(best, fallback(self, (x_stall, x_assoc)))
+            except Stopped:
+                if self.problem.deadline.expired():
+                    raise
+        return best
 
     def rescue(self, x_assoc, x_stall=None):
         """When the main ladder certifies nothing: higher rho from where it stalled (the
@@ -191,17 +274,14 @@ class Starts:
         for lane, (name, args, ran) in zip(lanes, after):
             if ran is None:
                 lane.append((name, args))
-        found = self.side_by_side(lanes, workers)
-        for lane, best in zip(lanes, found):
-            for name, _ in lane[1:]:
-                setattr(self, "_" + name, (best,))  # once a search (the lane's least state)
+        self.side_by_side(lanes, workers)
 
     def side_by_side(self, lanes, workers=1, phase="continuation"):
         """Independent ``lanes`` of starts (each a list of ``(method, args)`` of this class,
         run in turn on one engine) from this search's state, side by side in up to
         ``workers`` threads (:func:`~lamodel.search.gap.side_by_side.side_by_side`): each lane
-        a pure function of a snapshot (bases, caches, best state) with an equal share of the
-        work bounds left, merged in the order given, so that the answer is the same with any
+        a pure function of a snapshot (:meth:`snapshot`) with an equal share of the work
+        bounds left, merged in the order given, so that the answer is the same with any
         number of threads. Measured on the 1,020-block running-bond wall (mu 0.65): the two
         ladders of RHO_CONTS took 25.7 and 36.2 s one after the other and 26.4 and 37.3 s side
         by side on two cores (the same states and LP solves). Returns the least certified
@@ -211,8 +291,7 @@ class Starts:
             return [None] * len(lanes)
         t = time.perf_counter()
         p = self.problem
-        snap = dict(bases=p.bases(), certified=dict(self.certifier.cache), descended=dict(self.descent.cache),
-                    best=self.record.best)
+        snap = self.snapshot()
         k = len(lanes)
         lps = None if self.work_limit is None else max(0, self.work_limit - p.n_lps()) // k
         work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
@@ -227,6 +306,12 @@ class Starts:
             raise Stopped()
         return [min(states, key=lambda st: st.alpha, default=None) for _, states, _, _ in outcomes]
 
+    def snapshot(self) -> dict:
+        """What a pure evaluation of starts begins from (:meth:`.fitness.Fitness.starts_pure`):
+        the LPs' bases, the caches of certifications and descents, the best state."""
+        return dict(bases=self.problem.bases(), certified=dict(self.certifier.cache),
+                    descended=dict(self.descent.cache), best=self.record.best)
+
     def merge(self, states, lps, learned=None):
         """What a pure evaluation found, taken here as if found here (callers merge in task
         order): its certified states, its LP solves and work, and its additions to the caches
@@ -238,6 +323,9 @@ class Starts:
         self.problem.lps_elsewhere += lps
         if learned is not None:
             self.problem.work_elsewhere += learned.get("work", 0)
+            for name, ran in learned.get("ran", {}).items():
+                if getattr(self, "_" + name) is None:  # once a search: it ran there
+                    setattr(self, "_" + name, ran)
             for mine, theirs in ((self.certifier.cache, learned["certified"]),
                                  (self.descent.cache, learned["descended"])):
                 for key, value in theirs.items():
@@ -283,17 +371,20 @@ class Starts:
 
     def budget_share(self):
         """The share of the driver's work bounds spent so far (a progress display's: the
-        continuation lanes' work under way counted): of the one closest to ending the search
-        (LP solves or LP work), during the first certificate of its own bound; None where
-        no bound is set (a time limit)."""
+        lanes' work under way counted): of the one closest to ending the search (LP solves
+        or LP work), during the first certificate of its own bound (the fallback lane
+        furthest on); None where no bound is set (a time limit)."""
         if self.work_bound is not None:
             lanes = sum(engine.problem.work() - begun for engine, begun in list(self._running.values()))
             shares = [(self.work() + lanes) / self.work_bound]
             if self.work_limit:
                 shares.append(self.problem.n_lps() / self.work_limit)
             return max(shares)
-        if self.first_bound is not None:
-            return self.work() / self.first_bound
+        if self.first_bound is not None:  # the dilatancy lane may spend what was left at its start
+            lane = max((engine.problem.work() - begun for engine, begun in list(self._running.values())),
+                       default=None)
+            there = 0.0 if lane is None else self._lane_from + lane
+            return max(self.work(), there) / self.first_bound
         return None
 
     def _spent(self):

@@ -80,23 +80,31 @@ def test_the_continuations_stop_at_the_work_bound():
     assert e.n_lps() == lps
 
 
+def _with_one_and_two_threads(s, run):
+    """``run(engine, x_assoc, workers)`` on a new engine with one thread, then two: each
+    engine with the (alpha, source) of every state it took in the order taken."""
+    outcomes = []
+    for workers in (1, 2):
+        e = GapSearch(s)
+        _, _, x0 = e.starts.associative()
+        found = []
+        e.record.on_state = lambda st: found.append((st.alpha, st.source))
+        run(e, x0, workers)
+        outcomes.append((e, found))
+    return outcomes
+
+
 def test_the_continuation_lanes_give_the_same_answer_with_any_number_of_threads():
     """The continuation lanes (a ladder each, then the chain from zero cohesion or the
     dilatancy continuation) are pure functions of the search's state and of their share of
     the work left: one thread or two, the same certified states in the same order, the same
     LP solves and work counted, the same caches learned."""
-    s = bond(6, width=8, mu=1.0)
-    outcomes = []
-    for workers in (1, 2):
-        e = GapSearch(s)
-        _, _, x0 = e.starts.associative()
+    def lanes(e, x0, workers):
         e.starts.first_certificate(x0)
         e.starts.stable()
-        found = []
-        e.record.on_state = found.append
         e.starts.continuations(x0, workers=workers)
-        outcomes.append((e, [(st.alpha, st.source) for st in found]))
-    (a, found_a), (b, found_b) = outcomes
+
+    (a, found_a), (b, found_b) = _with_one_and_two_threads(bond(6, width=8, mu=1.0), lanes)
     assert found_a and found_a == found_b
     assert a.record.alpha() == b.record.alpha() <= min(alpha for alpha, _ in found_a)
     assert (a.n_lps(), a.starts.work()) == (b.n_lps(), b.starts.work())
@@ -132,3 +140,24 @@ def test_a_stop_during_the_lanes_keeps_what_they_certified():
     assert not any(lp.abandoned for lp in e.problem.lps.values())
     stop.clear()
     assert e.problem.statics()[0] == "optimal"
+
+
+def test_the_fallback_lanes_of_the_first_certificate_give_the_same_answer_with_any_number_of_threads():
+    """Where the gap alternation certifies nothing (the seed's 33-block panel at mu = 0.9),
+    the first certificate's two fallback lanes (the rescue and the chains on the search's
+    engine, the dilatancy continuation a pure evaluation beside them) give one thread or
+    two the same states in the same order, the same LP solves and work; both then count as
+    run, the least state passes the independent check, and the search's LPs are usable."""
+    from lamodel.geometry import seed_wall
+    from lamodel.io.jsonspec import structure_from_json
+    s = structure_from_json(seed_wall(6, mu=0.9))
+    (a, found_a), (b, found_b) = _with_one_and_two_threads(
+        s, lambda e, x0, workers: e.starts.first_certificate(x0, workers=workers))
+    assert found_a and found_a == found_b
+    assert {src.split("-")[0] for _, src in found_a} >= {"zero", "dilatancy"}
+    assert (a.n_lps(), a.starts.work()) == (b.n_lps(), b.starts.work())
+    assert a.starts._from_zero is not None and a.starts._dilatancy is not None
+    assert collapse_violation(s, a.record.best_user) <= 1e-7
+    n = a.n_lps()
+    assert a.starts.stable() and a.n_lps() == n + 1
+    assert a.record.alpha() <= 0.617365 and a.record.alpha() <= a.starts.associative()[1] + 1e-9
