@@ -227,7 +227,8 @@ TOTAL_WORK = 10.0
 #: 2040-block running-bond walls), about a minute per thousand blocks; the continuations and
 #: the chain from zero cohesion end between two LP solves once it is spent, the first
 #: certificate at FIRST_WORK times it (below). Measured (benchmarks/families.py --quick):
-#: no case reaches a fifth of it (work/bound at most 0.185), every alpha as without it.
+#: no case reaches a quarter of it (work/bound at most 0.226; 0.185 with the dilatancy continuation
+#: run after the chains instead of beside them), every alpha as without it.
 #: 1020 blocks (mu 0.65): the whole run 4.0e8 units (bound 4.08e8), its best 0.444923 at
 #: 3.6e8, as without it.
 #: 510 blocks (20 x 25, mu 0.9): the bound ends the search right after its first phase (427
