@@ -55,7 +55,6 @@ class Starts:
         self.new_engine = new_engine
         self._running = {}  # engines running lanes (side_by_side), for budget_share
         self._lane_from = 0.0  # the search's work when the first certificate's dilatancy lane began
-        self._real_deadline = None  # the search's deadline outside the first certificate's bound
         self.forget()
         #: LP solves, and LP work (:meth:`work`), at which the continuations
         #: and the chain from zero cohesion stop (None: no bound): the driver's work bounds
@@ -126,12 +125,12 @@ class Starts:
         fallback lanes); with ``first_bound`` set (the driver's, without a time limit) it
         ends between two solves once the search's work reaches it (``first_spent`` then
         tells so)."""
-        self._real_deadline = self.problem.deadline  # the fallback lanes stop there, not at our bound
+        real = self.problem.deadline  # the dilatancy lane stops there, not at the first bound
         if self.first_bound is None:
-            return self._first_certificate(x_assoc, workers)
+            return self._first_certificate(x_assoc, workers, real)
         try:
             with self.problem.until(self.bounded(lambda: self.work() >= self.first_bound)):
-                self._first_certificate(x_assoc, workers)
+                self._first_certificate(x_assoc, workers, real)
         except Stopped:
             if self.problem.deadline.expired():  # the time limit or a stop: the search's to handle
                 raise
@@ -139,7 +138,7 @@ class Starts:
         if self.record.best is None and self.work() >= self.first_bound:
             self.first_spent = True  # the fallback lanes spent it
 
-    def _first_certificate(self, x_assoc, workers=1):
+    def _first_certificate(self, x_assoc, workers=1, real=None):
         """The gap alternation from the associative statics and, if it certifies nothing,
         the fallbacks (:meth:`fallbacks`): two lanes side by side, the rescue from where it
         stalled and the chains (from zero cohesion, cold, then the fixed-point chain from
@@ -147,9 +146,9 @@ class Starts:
         continuation."""
         _, x = self.alternate(x_assoc, source="gap")
         if self.record.best is None:
-            self.fallbacks(x_assoc, x, workers)
+            self.fallbacks(x_assoc, x, workers, real)
 
-    def fallbacks(self, x_assoc, x_stall, workers=1):
+    def fallbacks(self, x_assoc, x_stall, workers=1, real=None):
         """Where the gap alternation certifies nothing: two lanes side by side, each with
         the whole first-certificate work left (they are different methods, either may be
         the one that certifies): :meth:`chains` (the rescue, then the seed's chains) on
@@ -189,7 +188,7 @@ class Starts:
                 raised.append(stop)
 
         snap = self.snapshot()
-        real = self._real_deadline or p.deadline
+        real = real or p.deadline  # the search's deadline (the dilatancy lane's work bound is its own)
         calls = [("starts_pure", (snap, [("dilatancy", (x_assoc,))], None, left, real))]
         try:
             outcomes = alongside(here, self.new_engine, calls, workers, running=self._running)
@@ -209,7 +208,8 @@ class Starts:
     def chains(self, x_assoc, x_stall):
         """The rescue (:meth:`rescue`) and, if it certified nothing, the seed's chain from
         zero cohesion with its cohesive LP cold, then the fixed-point chain from the stall and
-        from the associative statics (:mod:`.fallback`); they end at the work bounds.
+        from the associative statics (:mod:`.fallback`), on this engine; the first certificate's
+        bound ends them.
         Returns the least certified state (or None).
 
         Cold: the cohesive LP's statics is massively degenerate and the chain follows the
@@ -220,25 +220,13 @@ class Starts:
         (0.522916 and 0.549900, whole process 243 and 256 s). Only here, where nothing is
         certified yet: warm from a certified state's bases the chain from zero finds lower
         states (the 33-block running-bond wall at mu = 1.0: 0.607903 warm, 0.685714 cold)."""
-        best = None
-        try:
-            with self.problem.until(self.bounded()):
-                best = self.rescue(x_assoc, x_stall)
-        except Stopped:
-            if self.problem.deadline.expired():
-                raise
-            return self.record.best
+        best = self.rescue(x_assoc, x_stall)
         if self.record.best is not None:
             return best
         self.problem.load_bases({name: None for name in self.problem.save_bases(("coh",))})
         best = self.from_zero()
         if self.record.best is None:
-            try:
-                with self.problem.until(self.bounded()):
-                    best = _least(best, fallback(self, (x_stall, x_assoc)))
-            except Stopped:
-                if self.problem.deadline.expired():
-                    raise
+            best = _least(best, fallback(self, (x_stall, x_assoc)))
         return best
 
     def rescue(self, x_assoc, x_stall=None):
