@@ -4,6 +4,7 @@
     python benchmarks/families.py --quick                  # small sizes (minutes)
     python benchmarks/families.py                          # 50 to 2,000 blocks
     python benchmarks/families.py --quick --families bond,arch --csv results/families.csv
+    python benchmarks/families.py --families bond --write walls/   # the structure files only
 
 Families (each varies what users vary; mu from 0.3 to 1.0):
 
@@ -32,6 +33,7 @@ test: nothing is asserted. Times depend on the machine's load; LP counts do not.
 from __future__ import annotations
 
 import argparse
+import json
 import multiprocessing as mp
 import sys
 import time
@@ -231,6 +233,8 @@ def main(argv=None):
                     help="the driver's TOTAL_WORK for this run (default: lamodel.search.tuning's; inf: no bound), "
                          "to show the bound's effect across the families")
     ap.add_argument("--csv", default=str(ROOT / "results" / "families.csv"))
+    ap.add_argument("--write", metavar="DIR", help="write each case's structure file (CASE.json) to DIR, solve none "
+                    "(then: lamodel solve DIR/CASE.json)")
     args = ap.parse_args(argv)
     all_below = args.all_below if args.all_below is not None else (40 if args.quick else 0)
     wanted = set(filter(None, args.families.split(",")))
@@ -240,6 +244,10 @@ def main(argv=None):
         if wanted and fam not in wanted:
             continue
         spec = build()
+        if args.write:
+            Path(args.write).mkdir(parents=True, exist_ok=True)
+            (Path(args.write) / f"{name}.json").write_text(json.dumps(spec))
+            continue
         nb = structure_from_json(spec).n_blocks
         row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work))
         rows.append(row)
@@ -247,6 +255,9 @@ def main(argv=None):
               f"{row.get('path', ''):21s} first {row.get('t_first', np.nan):6.2f} s  best "
               f"{row.get('t_best', np.nan):6.2f} s  process {row['process']:6.1f} s  LPs {row.get('lps', 0)}"
               f"  least {row.get('least', np.nan):.6f}  work/bound {row.get('work_ratio', np.nan):.3f}", flush=True)
+    if args.write:
+        print(f"structure files: {args.write}")
+        return
     df = pd.DataFrame(rows)
     Path(args.csv).parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(args.csv, index=False)
