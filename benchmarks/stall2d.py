@@ -45,10 +45,13 @@ def gap_rows(p, x, xi):
 
 
 def diagnose(path, dilatancy=False, from_zero=False):
+    from lamodel.errors import InputError
     from lamodel.io import read
     from lamodel.search.gap import GapSearch
     from lamodel.search.tuning import DILATANCY_STEPS, DILATANCY_TRACK
     s = read(path)
+    if not hasattr(s, "n_contacts"):
+        raise InputError(f"{path}: a structure in space; benchmarks/stall3d.py diagnoses those")
     cpu = time.process_time()
     engine = GapSearch(s)
     p, starts = engine.problem, engine.starts
@@ -72,8 +75,10 @@ def diagnose(path, dilatancy=False, from_zero=False):
     order = np.argsort(-part)
     cum = np.cumsum(part[order]) / gap if gap > 0 else np.ones(1)
     held = [int(np.searchsorted(cum, f)) + 1 for f in (0.5, 0.75, 0.99)]
-    print(f"  1. gap {gap:.3e} (alpha_K {a_k:.6f}); rows holding 50/75/99 %: {held[0]}/{held[1]}/{held[2]}; "
-          f"the mechanism flows on {int((xi > 0).sum())} rows", flush=True)
+    where = (f"rows holding 50/75/99 %: {held[0]}/{held[1]}/{held[2]}" if gap > 0
+             else "the statics holds every row it flows on: a collapse state")
+    print(f"  1. gap {gap:.3e} (alpha_K {a_k:.6f}); {where}; the mechanism flows on {int((xi > 0).sum())} rows",
+          flush=True)
     nc = p.nc
     sl = p.slack(x)
     for i in order[:SHOWN][part[order[:SHOWN]] > 0]:
@@ -99,7 +104,11 @@ def main(argv=None):
     ap.add_argument("--dilatancy", action="store_true", help="diagnose where the dilatancy continuation ends")
     ap.add_argument("--chain-from-zero", action="store_true", help="then run the chain from zero cohesion")
     a = ap.parse_args(argv)
-    diagnose(a.file, a.dilatancy, a.chain_from_zero)
+    from lamodel.errors import InputError
+    try:
+        diagnose(a.file, a.dilatancy, a.chain_from_zero)
+    except InputError as err:
+        raise SystemExit(f"error: {err}")
 
 
 if __name__ == "__main__":
