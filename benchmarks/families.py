@@ -238,6 +238,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     all_below = args.all_below if args.all_below is not None else (40 if args.quick else 0)
     wanted = set(filter(None, args.families.split(",")))
+    from lamodel.io.files import atomic_write_text
     from lamodel.io.jsonspec import structure_from_json
     rows = []
     for fam, name, build in cases(args.quick):
@@ -246,7 +247,7 @@ def main(argv=None):
         spec = build()
         if args.write:
             Path(args.write).mkdir(parents=True, exist_ok=True)
-            (Path(args.write) / f"{name}.json").write_text(json.dumps(spec))
+            atomic_write_text(Path(args.write) / f"{name}.json", json.dumps(spec))
             continue
         nb = structure_from_json(spec).n_blocks
         row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work))
