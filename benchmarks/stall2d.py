@@ -39,11 +39,6 @@ KINDS = ("slide+", "slide-", "hinge 1", "hinge 2")
 SHOWN = 6
 
 
-def gap_rows(p, x, xi):
-    """Per yield row its part of the gap (slack times flow, in virtual work)."""
-    return p.slack(x) * p.row_scale * xi
-
-
 def diagnose(path, dilatancy=False, from_zero=False):
     from lamodel.errors import InputError
     from lamodel.io import read
@@ -70,7 +65,8 @@ def diagnose(path, dilatancy=False, from_zero=False):
     if status != "optimal":
         print(f"  mechanism step at the end: {status}")
         return
-    part = gap_rows(p, x, xi)
+    sl = p.slack(x)
+    part = sl * p.row_scale * xi  # per yield row its part of the gap (slack times flow, virtual work)
     gap = part.sum()
     order = np.argsort(-part)
     cum = np.cumsum(part[order]) / gap if gap > 0 else np.ones(1)
@@ -80,7 +76,6 @@ def diagnose(path, dilatancy=False, from_zero=False):
     print(f"  1. gap {gap:.3e} (alpha_K {a_k:.6f}); {where}; the mechanism flows on {int((xi > 0).sum())} rows",
           flush=True)
     nc = p.nc
-    sl = p.slack(x)
     for i in order[:SHOWN][part[order[:SHOWN]] > 0]:
         k = i % nc
         print(f"     {KINDS[i // nc]:7s} contact {k:5d} at ({s.centre[k][0]:.3g}, {s.centre[k][1]:.3g}) normal "
