@@ -94,9 +94,11 @@ mechanism certified as here):
   folds are followed. The 33-block panel at mu = 0.9 reached t = 0 for 3 of 4
   perturbations (174-250 events, 4-5 s) and certified 0.726538, 0.758389 and 0.685714;
   the fourth went round without end. The 510-block wall at mu = 0.9 was at t = 0.704
-  after 7,870 events (20 min), going back and forth there; 105-block walls at mu = 0.9
-  and 1.0 did not reach t = 0 in 5 minutes. Every evaluation is a sparse LU of the whole
-  mechanism basis (t changes every sliding column). Moving one contact's dilatancy at a
+  after 7,870 events (20 min), going back and forth there; the 105-block wall at
+  mu = 0.9 came down to t = 0.232 and then went back above t = 1 (8,500 events, 4 min),
+  which an exactly followed path cannot do: with bases this degenerate the path jumps
+  between branches at round-off. Every evaluation is a sparse LU of the whole mechanism
+  basis (t changes every sliding column). Moving one contact's dilatancy at a
   time (rank-one changes, events in closed form) took the 33-block panel to zero
   dilatancy in 1-2 s for 2 of 4 perturbations, but onto singular mechanism bases (the
   indeterminacy above): no certificate.
