@@ -82,8 +82,8 @@ mechanism certified as here):
   on sparse LUs with product-form updates). Its mechanism bases are singular wherever
   sliding contacts leave normal forces statically indeterminate (a fixed cohesion fixes V,
   not N): from the associative basis, 10 dependent columns of 250 on the 33-block panel at
-  mu = 0.9 (2 after exchanging the collinear slide rows of open contacts), 12 of 4,399 on
-  the 20 x 25 wall. With a small dilatancy (1e-6 to 1e-2) the bases are regular, but the
+  mu = 0.9 and 214 of 4,399 on the 20 x 25 wall (2 and 12 after exchanging the collinear
+  slide rows of open contacts). With a small dilatancy (1e-6 to 1e-2) the bases are regular, but the
   path from the associative state (its mechanism's dilatant opening imposed and scaled
   down to zero) closed into a loop back to its start (14 pivots), and Lemke's start from
   a covering vector ended on a secondary ray at its first pivot (5 of 5 random vectors).
