@@ -83,25 +83,26 @@ mechanism certified as here):
   sliding contacts leave normal forces statically indeterminate (a fixed cohesion fixes V,
   not N): from the associative basis, 10 dependent columns of 250 on the 33-block panel at
   mu = 0.9 and 214 of 4,399 on the 20 x 25 wall (2 and 12 after exchanging the collinear
-  slide rows of open contacts). With a small dilatancy (1e-6 to 1e-2) the bases are regular, but the
-  path from the associative state (its mechanism's dilatant opening imposed and scaled
-  down to zero) closed into a loop back to its start (14 pivots), and Lemke's start from
-  a covering vector ended on a secondary ray at its first pivot (5 of 5 random vectors).
-* The dilatancy homotopy followed exactly: t from 1 (the associative LP, a unique state
-  once yield rows and objective are perturbed by 1e-7 and 1e-6) down to 0, through exact
-  collapse states of each system of dilatancy t; where a flow reaches zero (bisection on
-  t) a statics pivot, and the entering flow's growth gives the direction of t, so that
-  folds are followed. The 33-block panel at mu = 0.9 reached t = 0 for 3 of 4
-  perturbations (174-250 events, 4-5 s) and certified 0.726538, 0.758389 and 0.685714;
-  the fourth went round without end. The 510-block wall at mu = 0.9 was at t = 0.704
-  after 7,870 events (20 min), going back and forth there; the 105-block wall at
-  mu = 0.9 came down to t = 0.232 and then went back above t = 1 (8,500 events, 4 min),
-  which an exactly followed path cannot do: with bases this degenerate the path jumps
-  between branches at round-off. Every evaluation is a sparse LU of the whole mechanism
-  basis (t changes every sliding column). Moving one contact's dilatancy at a
-  time (rank-one changes, events in closed form) took the 33-block panel to zero
-  dilatancy in 1-2 s for 2 of 4 perturbations, but onto singular mechanism bases (the
-  indeterminacy above): no certificate.
+  slide rows of open contacts). With a small dilatancy (1e-6 to 1e-2) the bases are
+  regular, but the path from the associative state (its mechanism's dilatant opening
+  imposed and scaled down to zero) closed into a loop back to its start (14 pivots), and
+  Lemke's start from a covering vector ended on a secondary ray at its first pivot (5 of 5
+  random vectors).
+* The dilatancy homotopy followed exactly: t from 1 (the associative LP, a unique state once
+  yield rows and objective are perturbed by 1e-7 and 1e-6) down to 0, through exact collapse
+  states of each system of dilatancy t; where a flow reaches zero (bisection on t) a statics
+  pivot, and the entering flow's growth gives the direction of t, so that folds are
+  followed. The 33-block panel at mu = 0.9 reached t = 0 for 3 of 4 perturbations (174-250
+  events, 4-5 s) and certified 0.726538, 0.758389 and 0.685714; the fourth went round
+  without end. The 510-block wall at mu = 0.9 was at t = 0.704 after 7,870 events (20 min),
+  going back and forth there; the 105-block wall at mu = 0.9 came down to t = 0.232 and then
+  went back above t = 1 (after 8,500 events, 4 min; still there after 29,900, 13 min), which
+  an exactly followed path cannot do: with bases this degenerate the path jumps between
+  branches at round-off. Every evaluation is a sparse LU of the whole mechanism basis (t
+  changes every sliding column). Moving one contact's dilatancy at a time (rank-one changes,
+  events in closed form) took the 33-block panel to zero dilatancy in 1-2 s for 2 of 4
+  perturbations, but onto singular mechanism bases (the indeterminacy above): no
+  certificate.
 * The elastic-plastic load path: two elastic points a contact (normal stiffness
   proportional to d, tangential 0.4 of it), opening and Coulomb slip without dilatancy as
   plastic strains, the load raised by control of ``fbar^T u`` (Newton with return mapping).
