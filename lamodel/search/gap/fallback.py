@@ -98,11 +98,13 @@ mechanism certified as here):
   going back and forth there; the 105-block wall at mu = 0.9 came down to t = 0.232 and then
   went back above t = 1 (after 8,500 events, 4 min; still there after 29,900, 13 min), which
   an exactly followed path cannot do: with bases this degenerate the path jumps between
-  branches at round-off. Every evaluation is a sparse LU of the whole mechanism basis (t
-  changes every sliding column). Moving one contact's dilatancy at a time (rank-one changes,
-  events in closed form) took the 33-block panel to zero dilatancy in 1-2 s for 2 of 4
-  perturbations, but onto singular mechanism bases (the indeterminacy above): no
-  certificate.
+  branches at round-off. Perturbed by 1e-5 and 1e-4 instead, it reached t = 0 (4,745 events,
+  195 s), but no mechanism of the unperturbed system flows on its final rows (the restricted
+  cohesive LP is unbounded): a collapse state of the perturbed problem only. Every
+  evaluation is a sparse LU of the whole mechanism basis (t changes every sliding column).
+  Moving one contact's dilatancy at a time (rank-one changes, events in closed form) took
+  the 33-block panel to zero dilatancy in 1-2 s for 2 of 4 perturbations, but onto singular
+  mechanism bases (the indeterminacy above): no certificate.
 * The elastic-plastic load path: two elastic points a contact (normal stiffness
   proportional to d, tangential 0.4 of it), opening and Coulomb slip without dilatancy as
   plastic strains, the load raised by control of ``fbar^T u`` (Newton with return mapping).
