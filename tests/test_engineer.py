@@ -228,6 +228,27 @@ def test_words_for_wall33_name_the_hinges_the_picture_marks(wall33):
     plt.close(fig)
 
 
+def test_a_mechanism_with_more_marks_than_the_picture_can_number_draws_them_unnumbered():
+    from lamodel.geometry.generators import running_bond_wall
+    from lamodel.output.kinematics import contact_modes
+    from lamodel.output.plot import plot_mechanism
+    from lamodel.output.words import PICTURE_NUMBERS, describe, joint_marks
+    rows = [[0.5] + [1] * 5 + [0.5] if k % 2 == 0 else [1] * 6 for k in range(12)]
+    s = structure_from_json(running_bond_wall(rows))
+    rng = np.random.default_rng(0)
+    u = 1e-3 * rng.standard_normal((s.n_blocks, 3))  # every block its own motion
+    modes = contact_modes(s, u)
+    marks = joint_marks(s, u, modes)
+    assert len(marks) > PICTURE_NUMBERS
+    fig, ax = plt.subplots()
+    plot_mechanism(s, u, modes=modes, ax=ax, path=None)
+    assert not ax.texts                                       # no numbers over the drawing
+    assert [line for line in ax.lines if line.get_marker() == "o"]  # the hinges still marked
+    plt.close(fig)
+    words = describe(s, u, modes)
+    assert "Joints:" in words and f"  {marks[-1].number}. " in "\n".join(words)  # the words keep every joint
+
+
 def test_thrust_line_of_a_certified_arch_stays_within_the_ring():
     from lamodel.output.words import ring_centre, thrust_line
     s = structure_from_json(INSTANCES / "arch.json")

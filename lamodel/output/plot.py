@@ -195,12 +195,16 @@ def _label(ax, p, text, offset, colour):
 
 def _joint_numbers(ax, s, u, modes, scale, ia):
     """The joints' numbers (as in the words), each hinge's rotation sense (a curved arrow
-    turning as b turns relative to a) and each slip's direction (b relative to a)."""
-    from .words import joint_marks
+    turning as b turns relative to a) and each slip's direction (b relative to a); none
+    for more than PICTURE_NUMBERS marks (they would cover the drawing)."""
+    from .words import PICTURE_NUMBERS, joint_marks
+    marks = joint_marks(s, u, modes)
+    if len(marks) > PICTURE_NUMBERS:
+        return
     size = s.size()
     index = {c: k for k, c in enumerate(s.contacts)}
     slides = []  # (point, unit direction) of each slip's arrow
-    for m in joint_marks(s, u, modes):
+    for m in marks:
         k = index[m.contact]
         p = m.point + scale * _point_motion(s, u, ia[k:k + 1], m.point[None, :])[0]
         if m.kind == "hinge":
