@@ -74,7 +74,24 @@ mechanism certified as here):
   force), no statics holds its mechanism's rows: the least sum of the lambdas holding them
   would zero is 7.4 (all 1,210 rows it flows on) and 1.5 (the 882 flowing above 1e-6 of
   the largest), and forbidding the rows that cannot be held, round after round, raised
-  alpha_K from 0.517 to 0.997 in 8 rounds without a certificate.
+  alpha_K from 0.517 to 0.997 in 8 rounds without a certificate. Such a stall is a local
+  minimum of the concave gap, not a blind spot of the alternation: at the one of another
+  run (gap 1.9e-5, 1,494 rows flowing, 99 % of the gap on three head joints' hinge rows) the least-alpha_K
+  mechanism is unique (cohesions perturbed by up to 1e-6 of themselves move its
+  flows by at most 1.1e-9 of the largest), so near the stall the gap is that one
+  mechanism's affine function, and a gap step from it (rho 10, 1e3, 1e5) gives statics
+  whose gaps are 5.6e-5 to 6.9e-5, 1.9e-5 and 1.7e-5. The chain from zero cohesion on
+  the same wall flows on 1,531 rows at its second step and on 5,300-8,500 at each later
+  one, alpha_K going 0.54, 0.34, 0.46, 0.46, 0.42, 0.34 ... without settling (14 steps,
+  about 65 s each), and every certification's first LP stops at its iteration cap; with
+  ``--time-limit 2400`` the search certifies nothing either.
+* Mechanisms of one block (all other blocks still), the Armadillo vault of the
+  elastic-plastic entry below: with the associative statics' cohesions the least alpha_K
+  of the 155 bounded ones is 0.728 (the next 0.781), none certified; the gap alternation
+  restricted to the motions of that block ends at alpha_K 0.464 with gap 1.4e-2, above the
+  associative bound 0.4508, which no collapse state exceeds. The averaged chain does reach
+  mechanisms of that one block (alpha_K 0.311, 0.229, 0.166), but on cohesions no
+  admissible statics has.
 * Ferris & Tin-Loi's relaxed MPEC with Ipopt (``--method mpec``) certified neither the
   105-block wall at mu = 0.9 (18 s) nor the 510-block one (208 s).
 * Complementary pivoting on eq. (5)'s conditions (yield slack of the statics against flow
