@@ -76,14 +76,14 @@ mechanism certified as here):
   the largest), and forbidding the rows that cannot be held, round after round, raised
   alpha_K from 0.517 to 0.997 in 8 rounds without a certificate. Such a stall is a local
   minimum of the concave gap, not a blind spot of the alternation: at the one of another
-  run (gap 1.9e-5, 1,494 rows flowing, 99 % of the gap on three head joints' hinge rows) the least-alpha_K
-  mechanism is unique (cohesions perturbed by up to 1e-6 of themselves move its
-  flows by at most 1.1e-9 of the largest), so near the stall the gap is that one
+  run (gap 1.9e-5, 1,494 rows flowing, 99 % of the gap on three head joints' hinge rows)
+  the least-alpha_K mechanism is unique (cohesions perturbed by up to 1e-6 of themselves
+  move its flows by at most 1.1e-9 of the largest), so near the stall the gap is that one
   mechanism's affine function, and a gap step from it (rho 10, 1e3, 1e5) gives statics
-  whose gaps are 5.6e-5 to 6.9e-5, 1.9e-5 and 1.7e-5. The chain from zero cohesion on
-  the same wall flows on 1,531 rows at its second step and on 5,300-8,500 at each later
-  one, alpha_K going 0.54, 0.34, 0.46, 0.46, 0.42, 0.34 ... without settling (14 steps,
-  about 65 s each), and every certification's first LP stops at its iteration cap; with
+  whose gaps are 5.6e-5 to 6.9e-5, 1.9e-5 and 1.7e-5. The chain from zero cohesion on the
+  same wall flows on 1,531 rows at its second step and on 5,300-8,500 at each later one,
+  alpha_K going 0.54, 0.34, 0.46, 0.46, 0.42, 0.34 ... without settling (14 steps, about
+  65 s each), and every certification's first LP stops at its iteration cap; with
   ``--time-limit 2400`` the search certifies nothing either.
 * Mechanisms of one block (all other blocks still), the Armadillo vault of the
   elastic-plastic entry below: with the associative statics' cohesions the least alpha_K
