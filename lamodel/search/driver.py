@@ -338,8 +338,8 @@ def _nothing_certified(engine, alpha_assoc, stopped):
     bound = (f"; the associative multiplier {alpha_assoc:.6g} bounds alpha_c from above"
              if np.isfinite(alpha_assoc) else "")
     if engine.starts.first_spent and not stopped:
-        when = (f" within the default run's work bound ({FIRST_WORK:g} times that of {engine.problem.nb} blocks; "
-                "--time-limit SECONDS searches for that long instead)")
+        when = (f" within the default run's work bound ({FIRST_WORK:g} times the LP work a search of "
+                f"{engine.problem.nb} blocks is given; --time-limit SECONDS searches for that long instead)")
     return NOT_CERTIFIED, f"no collapse state certified{when}{bound}", alpha_assoc
 
 
