@@ -197,9 +197,9 @@ def _joint_numbers(ax, s, u, modes, scale, ia):
     """The joints' numbers (as in the words), each hinge's rotation sense (a curved arrow
     turning as b turns relative to a) and each slip's direction (b relative to a); none
     for more than PICTURE_NUMBERS marks (they would cover the drawing)."""
-    from .words import PICTURE_NUMBERS, joint_marks
+    from .words import joint_marks, numbered_in_picture
     marks = joint_marks(s, u, modes)
-    if len(marks) > PICTURE_NUMBERS:
+    if not numbered_in_picture(marks):
         return
     size = s.size()
     index = {c: k for k, c in enumerate(s.contacts)}

@@ -34,6 +34,11 @@ from .modes import RTOL
 #: 5-30 marks.
 PICTURE_NUMBERS = 60
 
+
+def numbered_in_picture(marks) -> bool:
+    """Whether the picture writes the numbers of these joint marks (PICTURE_NUMBERS)."""
+    return len(marks) <= PICTURE_NUMBERS
+
 _DIRECTIONS = ("right", "up and right", "up", "up and left", "left", "down and left", "down", "down and right")
 
 
@@ -211,7 +216,7 @@ def describe(structure: Structure, u, modes, alpha=None) -> list:
         lines.append(f"  macro-block {n} [{names}] {motion}")
     marks = joint_marks(s, u, modes)
     if marks:
-        lines.append("Joints (numbered as in the picture):" if len(marks) <= PICTURE_NUMBERS else "Joints:")
+        lines.append("Joints (numbered as in the picture):" if numbered_in_picture(marks) else "Joints:")
         lines += [f"  {m.number}. {m.text}" for m in marks]
     n_open = sum(m == "open" for m in modes)
     if n_open:
