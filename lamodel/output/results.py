@@ -424,16 +424,17 @@ class Results:
         """A readable multi-table text: the summary (transposed), the runs, the contact modes."""
         fmt = lambda v: f"{v + 0.0:.10g}"  # noqa: E731  (+ 0.0: a signed zero is shown as 0)
         row = self.summary.iloc[0]
-        summary = pd.DataFrame(
-            {"value": [fmt(v) if isinstance(v, (float, np.floating)) else str(v) for v in row]},
-            index=list(self.summary.columns))
+        # names and values left-aligned: a long message then widens its own line only
+        width = max(map(len, self.summary.columns))
+        summary = "\n".join(f"{name:<{width}}  {fmt(v) if isinstance(v, (float, np.floating)) else v}".rstrip()
+                             for name, v in row.items())
         modes = self.mode_counts().rename("contacts").to_frame()
         modes.index.name = None
-        runs = self.runs.to_string(index=False, float_format=fmt) if len(self.runs) else "(no runs)"
+        runs = _aligned(self.runs, fmt) if len(self.runs) else "(no runs)"
         return "\n".join([
             f"Limit analysis of '{self.instance}'",
             "",
-            summary.to_string(),
+            summary,
             "",
             f"Solver starts ({len(self.runs)}):",
             runs,
@@ -444,3 +445,19 @@ class Results:
 
     def __str__(self) -> str:
         return self.to_text()
+
+
+def _aligned(table: pd.DataFrame, fmt) -> str:
+    """``table`` as text, numbers right-aligned and text left-aligned under their names (a
+    long status then widens its own column only)."""
+    columns = []
+    for name in table.columns:
+        values = table[name]
+        text = values.dtype == object or values.dtype == bool
+        cells = ["" if text and pd.isna(v) else " ".join(str(v).splitlines())
+                 if text or not isinstance(v, (float, np.floating)) else "NaN" if np.isnan(v) else fmt(v)
+                 for v in values]
+        width = max(len(name), *map(len, cells))
+        columns.append([f"{c:<{width}}" if text else f"{c:>{width}}" for c in [name, *cells]])
+    return "\n".join("  ".join(row).rstrip() for row in zip(*columns))
+

@@ -114,6 +114,21 @@ def test_text_has_summary_runs_and_modes():
     assert "hinging" in text and "Contact modes (3 contacts)" in text
 
 
+def test_text_aligns_numbers_right_and_words_left_so_a_long_message_widens_only_its_line():
+    message = "no collapse state certified " + "x" * 150
+    lines = str(two_blocks(message=message, status="not_certified")).splitlines()
+    summary = lines[2:lines.index("Solver starts (2):") - 1]
+    assert [line.split()[0] for line in summary if len(line) > 40] == ["message"]
+    assert " ".join(next(line for line in summary if line.startswith("message")).split()[1:]) == message
+    assert len({line.index(line.split()[1]) for line in summary if len(line.split()) == 2}) == 1  # one column
+    runs = lines[lines.index("Solver starts (2):") + 1:][:3]
+    status = runs[0].index("status")
+    # the words start under their name, the numbers end under theirs; a line break in a status stays on its row
+    assert runs[1][status:].startswith("optimal ") and runs[2][status:].startswith('failed: ValueError: "x", y second')
+    end = runs[0].index("alpha_ipopt") + len("alpha_ipopt")
+    assert runs[1][:end].endswith(" 0.3") and runs[2][:end].endswith(" NaN")
+
+
 # ------------------------------------------------------------------------------ errors
 @pytest.fixture
 def folder(tmp_path):
