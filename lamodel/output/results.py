@@ -450,13 +450,17 @@ class Results:
 def _aligned(table: pd.DataFrame, fmt) -> str:
     """``table`` as text, numbers right-aligned and text left-aligned under their names (a
     long status then widens its own column only)."""
+    def cell(v, text):
+        if text:
+            return "" if pd.isna(v) else " ".join(str(v).splitlines())
+        if isinstance(v, (float, np.floating)):
+            return "NaN" if np.isnan(v) else fmt(v)
+        return str(v)
+
     columns = []
     for name in table.columns:
-        values = table[name]
-        text = values.dtype == object or values.dtype == bool
-        cells = ["" if text and pd.isna(v) else " ".join(str(v).splitlines())
-                 if text or not isinstance(v, (float, np.floating)) else "NaN" if np.isnan(v) else fmt(v)
-                 for v in values]
+        text = table[name].dtype in (object, bool)
+        cells = [cell(v, text) for v in table[name]]
         width = max(len(name), *map(len, cells))
         columns.append([f"{c:<{width}}" if text else f"{c:>{width}}" for c in [name, *cells]])
     return "\n".join("  ".join(row).rstrip() for row in zip(*columns))
