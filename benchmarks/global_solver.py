@@ -28,7 +28,7 @@ sys.path.insert(0, str(ROOT))
 
 
 def lpcc(structure, seconds: float):
-    """SCIP's model of eq. 5 as an LPCC, its time limit set; returns (model, alpha variable)."""
+    """SCIP's model of eq. 5 as an LPCC, its time limit set; returns (model, number of contacts)."""
     from pyscipopt import Model, quicksum
 
     from lamodel.formulation.matrices import Formulation, xi_bounds
