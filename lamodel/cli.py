@@ -198,7 +198,7 @@ def command(name: str | None, argv=None, prog: str = "lamodel") -> int:
     """Run one command (``name``) or the whole ``lamodel`` command line (``name=None``);
     returns the exit status. SIGINT, SIGTERM and SIGHUP end it with 128 + the signal
     (:mod:`lamodel.process`)."""
-    from .search.options import stop_signal
+    from .signals import stop_signal
     old = watch_signals()
     try:
         return _command(name, list(sys.argv[1:] if argv is None else argv), prog)

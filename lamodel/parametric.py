@@ -269,7 +269,7 @@ def run_study(study: Study, workers: int | None = None, scheduler: str | None = 
     or on ``scheduler``); the table in variant order. ``progress``: a tqdm bar on stderr
     (default: only when stderr is a terminal); ``on_row(row)`` after each variant.
 
-    A stop signal (Ctrl-C, SIGTERM, SIGHUP: :data:`lamodel.search.options.STOP_SIGNALS`)
+    A stop signal (Ctrl-C, SIGTERM, SIGHUP: :data:`lamodel.signals.STOP_SIGNALS`)
     ends the study: the table holds the variants done (one the signal stopped has status
     ``interrupted`` and its best certified state), the others have status ``not run``, and
     ``df.attrs["interrupted"]`` is True."""
@@ -278,7 +278,7 @@ def run_study(study: Study, workers: int | None = None, scheduler: str | None = 
     from tqdm import tqdm
 
     from .search.executor import Executor
-    from .search.options import catch_sigint, clear_stop_signal, restore_sigint, stop_signal
+    from .signals import RAISE, catch_sigint, clear_stop_signal, restore_sigint, stop_signal
     variants = study.variants()
     if progress is None:
         progress = sys.stderr.isatty()
@@ -297,12 +297,9 @@ def run_study(study: Study, workers: int | None = None, scheduler: str | None = 
         if stop_signal() is not None:  # it stopped a variant solved in this process
             raise KeyboardInterrupt
 
-    def interrupt():
-        raise KeyboardInterrupt
-
     own = executor is None
     clear_stop_signal()
-    old = catch_sigint(interrupt)
+    old = catch_sigint(RAISE)  # the study's main thread waits on its workers
     results = None
     try:
         ex = executor or Executor(workers=workers, scheduler=scheduler, preload=("lamodel.search.driver",))

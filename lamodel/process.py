@@ -1,11 +1,11 @@
 """How a lamodel process starts and ends: the signals that stop it, its exit status after
 one, its worker processes ending with it, and its quick exit.
 
-SIGINT (Ctrl-C), SIGTERM and SIGHUP stop a run the same way
-(:data:`lamodel.search.options.STOP_SIGNALS`): during a search, the search ends and its
-best certified state is written; at any other moment the command ends at once, its
-staging folders removed. The exit status is then 128 + the signal's number, the shell's
-convention: 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP.
+SIGINT (Ctrl-C), SIGTERM and SIGHUP stop a run the same way (:mod:`lamodel.signals`, where
+they are caught): during a search, the search ends and its best certified state is
+written; at any other moment the command ends at once, its staging folders removed. The
+exit status is then 128 + the signal's number, the shell's convention: 130 for SIGINT,
+143 for SIGTERM, 129 for SIGHUP.
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import sys
 import threading
 import time
 
-from .search.options import STOP_SIGNALS, clear_stop_signal, note_stop_signal, stop_signal
+from .signals import STOP_SIGNALS, remove_staged, stop_signal, unwatch_signals, watch_signals  # noqa: F401
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_NOT_CERTIFIED = 0, 1, 2, 3
 
@@ -40,40 +40,6 @@ def exit_status(signum: int | None = None) -> int:
     """128 + the number of the stop signal that arrived (130 when none is known: Ctrl-C)."""
     signum = signum if signum is not None else stop_signal()
     return 128 + int(signum if signum is not None else signal.SIGINT)
-
-
-def _raise_interrupt(signum, frame):
-    note_stop_signal(signum)
-    raise KeyboardInterrupt
-
-
-_raise_interrupt.stops_lamodel = True  # a search takes it over (catch_sigint) and puts it back
-
-
-def watch_signals() -> dict:
-    """Make SIGINT, SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread, each
-    remembered (:func:`lamodel.search.options.stop_signal`): an extension module
-    interrupted while it loads (numpy's C core) turns the KeyboardInterrupt into an
-    ImportError, which must still end the run as an interrupt. Returns the handlers to
-    put back (:func:`unwatch_signals`). A signal that is ignored stays ignored (a shell's
-    background job, ``nohup``); SIGINT is taken only from Python's default handler, and
-    nothing is changed outside the main thread."""
-    clear_stop_signal()
-    if threading.current_thread() is not threading.main_thread():
-        return {}
-    old = {}
-    for sig in STOP_SIGNALS:
-        current = signal.getsignal(sig)
-        default = signal.default_int_handler if sig == signal.SIGINT else signal.SIG_DFL
-        if current is default:
-            old[sig] = signal.signal(sig, _raise_interrupt)
-    return old
-
-
-def unwatch_signals(old: dict):
-    """Put back the handlers :func:`watch_signals` replaced."""
-    for sig, handler in old.items():
-        signal.signal(sig, handler)
 
 
 def end_with_parent(poll: float = 0.5):
@@ -111,7 +77,8 @@ def exit_now(status: int):
     The usual ``sys.exit(status)`` instead when called from inside another program (a
     test runner's runpy, a notebook: more than the script's top level and the console
     script's wrapper below this call), or while a worker process or a non-daemon thread
-    is still there (the usual exit waits for it)."""
+    is still there (the usual exit waits for it), unless a stop signal ended the run: its
+    workers are then killed."""
     import atexit
     if threading.current_thread() is threading.main_thread():
         # the result is written and the status decided: a stop signal during the teardown
@@ -123,8 +90,14 @@ def exit_now(status: int):
     depth, frame = 0, sys._getframe(1)
     while frame is not None and depth <= 2:
         depth, frame = depth + 1, frame.f_back
-    busy = any(t is not threading.main_thread() and not t.daemon for t in threading.enumerate())
     children = "multiprocessing" in sys.modules and sys.modules["multiprocessing"].active_children()
+    # a stopped run has written what it keeps: its workers (an Ipopt pool still building its
+    # models, say) and the threads that manage them are ended, not waited for
+    stopped = frame is None and stop_signal() is not None
+    if stopped:
+        kill_quietly(children or [])
+        children = []
+    busy = not stopped and any(t is not threading.main_thread() and not t.daemon for t in threading.enumerate())
     if frame is not None or busy or children:
         sys.exit(status)
     try:
@@ -140,6 +113,7 @@ def exit_now(status: int):
 
 def interrupted(prog: str) -> int:
     """Say that a stop signal ended the run; its exit status (:func:`exit_status`)."""
+    remove_staged()
     print(f"{prog}: interrupted", file=sys.stderr)
     return exit_status()
 

@@ -78,3 +78,30 @@ def assert_same_structure(a, b, exact=True):
     for name in ("centroid", "dead", "live", "centre", "normal", "d", "mu"):
         same = np.array_equal if exact else np.allclose
         assert same(getattr(a, name), getattr(b, name)), name
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    report = outcome.get_result()
+    if report.failed:
+        item.lamodel_failed = True
+
+
+@pytest.fixture(autouse=True)
+def _no_process_outlives_a_failed_test(request):
+    """The processes a test started (and theirs) are killed when it fails or times out (the
+    per-test timeout of setup.cfg): a hung ``lamodel solve`` never outlives its test. Those
+    of longer-lived fixtures (a Dask cluster) were there before the test and are spared."""
+    import psutil
+    me = psutil.Process()
+    before = {p.pid for p in me.children(recursive=True)}
+    yield
+    if getattr(request.node, "lamodel_failed", False):
+        left = [p for p in me.children(recursive=True) if p.pid not in before]
+        for p in left:
+            try:
+                p.kill()
+            except psutil.Error:
+                pass
+        psutil.wait_procs(left, timeout=5)

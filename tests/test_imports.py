@@ -97,3 +97,11 @@ def test_no_private_name_is_imported_from_another_package():
             if private and there != here:
                 crossing.append(f"{path.relative_to(ROOT)}:{line} imports {', '.join(private)} from {target}")
     assert crossing == []
+
+
+def test_the_stop_signals_and_the_process_sit_below_the_search():
+    """lamodel.signals (where the stop signals are caught) imports nothing of lamodel, and
+    lamodel.process only it: the search and the commands lean on them, never the reverse."""
+    graph = import_graph()
+    assert graph["lamodel.signals"] == set()
+    assert graph["lamodel.process"] <= {"lamodel.signals", "lamodel.errors"}

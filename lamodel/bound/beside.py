@@ -24,6 +24,7 @@ import threading
 import time
 
 from ..search.options import Deadline
+from ..search.tuning import LATE_SECONDS
 from .lower import LowerBound, default_counts, default_seconds, lower_bound
 
 
@@ -44,7 +45,7 @@ class BoundBeside:
         #: no time of its own while the search runs (:meth:`finish` sets it); a stop ends it
         self.deadline = Deadline(None, self._stop.is_set)
         self._thread = None
-        self._started = None
+        self._started = self._top = None
         self._result: LowerBound | None = None
         self._error: BaseException | None = None
 
@@ -53,7 +54,7 @@ class BoundBeside:
         the range; a top that is not a finite multiplier starts nothing."""
         if not self.enabled or self._thread is not None or not (math.isfinite(alpha_upper) and alpha_upper >= 0):
             return
-        self._started = time.monotonic()
+        self._started, self._top = time.monotonic(), float(alpha_upper)
         self._thread = threading.Thread(target=self._run, args=(float(alpha_upper),), name="lamodel-bound",
                                         daemon=True)
         self._thread.start()
@@ -76,12 +77,19 @@ class BoundBeside:
         if self._thread is None:
             return None
         self.deadline.at = self._started + default_seconds(search_seconds, self.structure)
+        # its LPs check the deadline inside HiGHS, so it ends within a solve's check of it;
+        # a thread that would not is left behind (a daemon) rather than waited on for ever
+        give_up = max(self.deadline.at, time.monotonic()) + LATE_SECONDS
         try:
-            while self._thread.is_alive():
+            while self._thread.is_alive() and time.monotonic() < give_up:
                 self._thread.join(0.1)
         except BaseException:  # Ctrl-C while waiting: the bound stops too
             self.stop()
             raise
+        if self._thread.is_alive():  # nothing it proved can be read: no bound, the search's result stands
+            self._stop.set()
+            return LowerBound(math.nan, self._top, False, 0, 0, 0, 0, 0, time.monotonic() - self._started, "none",
+                              complete=False)
         if self._error is not None:
             raise self._error
         return self._result

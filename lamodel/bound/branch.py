@@ -35,6 +35,8 @@ import numpy as np
 from ..search.options import Deadline
 from .exact import ExactData, floor_float
 from .lps import BoundLPs
+from .plane import pair_bound
+from .space import BoundLPs3D, ExactData3D
 
 #: a cohesion's flow below this fraction of the largest does not make it a candidate
 FLOW_TOL = 1e-7
@@ -91,7 +93,6 @@ class BranchAndBound:
         self.U = float(upper)
         self.deadline = deadline
         if getattr(structure, "dimension", 2) == 3:
-            from .space import BoundLPs3D, ExactData3D
             self.lps, self.exact = BoundLPs3D(structure), ExactData3D(structure)
         else:
             self.lps, self.exact = BoundLPs(structure), ExactData(structure)
@@ -269,7 +270,6 @@ class BranchAndBound:
     def _pair(self, node) -> str:
         """The polygon bound of the two contacts the mechanism slides on most
         (:mod:`.plane`): "excluded", "raised" (a raised, ``fresh`` emptied) or "same"."""
-        from .plane import pair_bound
         if self.pairs == "none" or (self.pairs == "root" and node.depth) or node.rate is None \
                 or np.count_nonzero(node.rate > 0) < 2:
             return "same"

@@ -21,7 +21,9 @@ import math
 from fractions import Fraction
 
 import numpy as np
+import scipy.linalg as la
 import scipy.sparse as sp
+from scipy.sparse.linalg import splu
 
 from ..formulation.matrices import equilibrium_matrix, load_vectors
 from ..structure import Structure
@@ -262,7 +264,6 @@ def rebuild(column, ncol, answer, limits, rhs, room=None):
 
 def _completed(column, basic, candidates, m):
     """``basic`` and as many of ``candidates`` as make m independent columns (floats)."""
-    import scipy.linalg as la
 
     def dense(cols):
         M = np.zeros((m, len(cols)))
@@ -304,7 +305,6 @@ def _dot(Y, ey, vec) -> Fraction:
 
 def _column_order(rows, n):
     """A fill-reducing order of the unknowns (scipy's COLAMD through SuperLU)."""
-    from scipy.sparse.linalg import splu
     r, c, v = [], [], []
     for i, row in enumerate(rows):
         for j, a in row.items():

@@ -13,8 +13,10 @@ import math
 import time
 from dataclasses import dataclass
 
+from ..search.options import Deadline
 from ..structure import Structure
 from ..structure3d import Structure3D
+from .branch import BranchAndBound  # at load time: the bound runs in a thread beside the search
 
 #: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
 PROVEN_TOL = 1e-6
@@ -114,8 +116,6 @@ def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: 
     the LPs on a running-bond wall). ``deadline``: a
     :class:`~lamodel.search.options.Deadline` to stop at instead of ``budget`` (one that
     can be set or stopped from another thread: :mod:`.beside`)."""
-    from ..search.options import Deadline
-    from .branch import BranchAndBound
     t0 = time.perf_counter()
     structure.validate()
     if not math.isfinite(alpha_upper) or alpha_upper < 0:

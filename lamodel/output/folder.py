@@ -19,6 +19,7 @@ from pathlib import Path
 
 from ..errors import InputError, OutputError
 from ..io.files import check_writable_folder, fsync_path
+from ..signals import staged, unstaged
 
 #: The four tables of a result folder (:mod:`lamodel.output.results`), by name.
 TABLE_FILES = {"summary": "summary.csv", "blocks": "blocks.csv", "contacts": "contacts.csv", "runs": "runs.csv"}
@@ -183,6 +184,7 @@ class ResultFolder:
             self.parent.mkdir(parents=True, exist_ok=True)
             self._clean()
             stage = self._sibling("new")
+            staged(stage)  # named before it exists: removed by a run a stop signal ends, at any instant
             os.mkdir(stage, 0o777)
             self.path = stage
             if self.final.is_dir():
@@ -217,6 +219,7 @@ class ResultFolder:
                 os.rename(self.final, old)
                 os.rename(self.path, self.final)
         self.committed = True
+        unstaged(self.path)
         if old is not None:
             for name in self._foreign(old, os.listdir(old)):  # a file of the user's made in the last instant
                 if not os.path.lexists(self.final / name):
@@ -236,6 +239,7 @@ class ResultFolder:
         """Remove the staging folder unless it was committed (a failed or interrupted run)."""
         if self.path is not None and not self.committed:
             shutil.rmtree(self.path, ignore_errors=True)
+            unstaged(self.path)
 
     def __enter__(self):
         return self.open() if self.path is None else self

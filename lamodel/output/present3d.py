@@ -148,7 +148,7 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
     Returns an :class:`Analysis3D`."""
     from ..bound.beside import BoundBeside
     from ..io.files import safe_folder_name
-    from ..search.options import catch_sigint, restore_sigint
+    from ..signals import catch_sigint, restore_sigint
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
     from .results3d import bound_columns3d, summary_row, write_results3d
     from .words import bound_words

@@ -56,12 +56,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from ..signals import catch_sigint, restore_sigint
 from ..structure import Structure
 from ..structure3d import Structure3D
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .ipopt import start_pool
 from .generations import Generations
-from .options import Deadline, SolveOptions, Stopped, catch_sigint, restore_sigint
+from .options import Deadline, SolveOptions, Stopped
 from .progress import Progress
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
@@ -122,9 +123,6 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     asked = sigint.is_set if stop is None else (lambda: sigint.is_set() or bool(stop()))
     deadline = Deadline.after(opt.time_limit, asked)
     plan = _polish_plan(structure, opt)
-    # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
-    # threads here, and build their models while the LPs run.
-    pool = start_pool(_scaled(structure), opt, plan["n"]) if plan["run"] else None
     # the search leaves the polish its share of a time limit
     search_deadline = deadline
     if plan["run"] and opt.time_limit is not None:
@@ -141,13 +139,17 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         progress.best(user_state.alpha)
 
     work = {}  # LP solves of the first phase
+    # from here a stop signal only asks the search to stop: the workers started below end with it
     old_handler = catch_sigint(sigint.set)
-    # BLAS_THREADS while the search runs (the Ipopt workers keep the setting they forked with)
-    blas = threadpool_limits(BLAS_THREADS, user_api="blas")
-    engine = None
+    pool = blas = engine = None
     runs: list[Run] = []
     status, message, alpha_assoc = NOT_CERTIFIED, "", np.nan
     try:
+        # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
+        # threads here, and build their models while the LPs run.
+        pool = start_pool(_scaled(structure), opt, plan["n"]) if plan["run"] else None
+        # BLAS_THREADS while the search runs (the Ipopt workers keep the setting they forked with)
+        blas = threadpool_limits(BLAS_THREADS, user_api="blas")
         engine = GapSearch(structure, search_deadline, on_certified=on_certified)
         engine.record.on_state = on_state
         progress.follow(engine.starts.budget_share)
@@ -161,7 +163,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         if status == CERTIFIED or (status == NOT_CERTIFIED and engine.record.best is not None):
             _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
     finally:
-        blas.restore_original_limits()
+        if blas is not None:
+            blas.restore_original_limits()
         progress.close()
         restore_sigint(old_handler)
         if pool is not None:

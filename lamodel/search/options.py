@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import math
-import signal
 import threading
 import time
 from dataclasses import dataclass, field
@@ -119,72 +118,3 @@ class Deadline:
     def __setstate__(self, state):
         self.at = None if state["left"] is None else time.monotonic() + state["left"]
         self.stop, self.flag = None, False
-
-
-#: The signals that stop a solve as Ctrl-C does: the search ends, its best certified state
-#: is kept (``timeout``, ``docker stop``, systemd and batch schedulers send SIGTERM; a
-#: closed terminal sends SIGHUP).
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-_received: list = []  # the stop signals that arrived, in order
-
-
-def stop_signal() -> int | None:
-    """The first stop signal (:data:`STOP_SIGNALS`) that arrived since
-    :func:`clear_stop_signal`, or None."""
-    return _received[0] if _received else None
-
-
-def clear_stop_signal():
-    """Forget the stop signals that arrived (a new run starts)."""
-    _received.clear()
-
-
-def note_stop_signal(signum: int):
-    """Record a stop signal (what :func:`stop_signal` answers)."""
-    _received.append(int(signum))
-
-
-def catch_sigint(on_sigint):
-    """Let Ctrl-C (SIGINT), SIGTERM and SIGHUP call ``on_sigint()`` instead of ending the
-    process; the signal is recorded (:func:`stop_signal`). Returns what
-    :func:`restore_sigint` needs, or None when nothing was changed.
-
-    Nothing is changed outside the main thread (Python allows handlers only there), nor
-    for a signal that is ignored: a shell starts background jobs with SIGINT ignored so
-    that Ctrl-C at the terminal leaves them running, ``nohup`` ignores SIGHUP, and Python
-    itself honours both. SIGTERM and SIGHUP are taken over only from their default action
-    or from a handler marked ``stops_lamodel`` (the command line's): a program that calls
-    lamodel with its own handler keeps it, and one whose SIGTERM or SIGHUP had its default
-    action gets it back when the work is done (:func:`restore_sigint` delivers it again:
-    the process ends as it would have, its workers already stopped).
-    """
-    if threading.current_thread() is not threading.main_thread():
-        return None
-
-    def handler(signum, frame):
-        note_stop_signal(signum)
-        on_sigint()
-    handler.stops_lamodel = True
-    old = {}
-    for sig in STOP_SIGNALS:
-        current = signal.getsignal(sig)
-        if current is signal.SIG_IGN:
-            continue
-        if sig != signal.SIGINT and current not in (signal.SIG_DFL, None) and not getattr(current, "stops_lamodel",
-                                                                                         False):
-            continue
-        old[sig] = signal.signal(sig, handler)
-    return (old, len(_received)) if old else None
-
-
-def restore_sigint(caught):
-    """Put back the handlers :func:`catch_sigint` replaced; a SIGTERM or SIGHUP that
-    arrived meanwhile, where its action was the default one, is delivered again."""
-    if caught is None:
-        return
-    old, mark = caught
-    for sig, handler in old.items():
-        signal.signal(sig, handler)
-    for sig in dict.fromkeys(_received[mark:]):
-        if sig != signal.SIGINT and old.get(sig) in (signal.SIG_DFL, None) and sig in old:
-            signal.raise_signal(sig)

@@ -351,3 +351,6 @@ WORK_PER_BLOCK_CONE, WORK_FLOOR_CONE = 3.5e6, 6.0e8
 #: with no statics from 0.022 up; a failed call costs one capped LP.
 ALIGN_IPM_CAP = 50
 ALIGN_CAP_ROWS = 2.0
+#: Seconds past its time guard that the lower bound beside the search is waited for: its LPs
+#: check the guard inside HiGHS (milliseconds), so only a thread that cannot end waits so long.
+LATE_SECONDS = 5.0
