@@ -23,7 +23,7 @@ from .tuning import EPSILON_LADDER, IPOPT_OPTIONS, IPOPT_WARM_OPTIONS
 #: Ipopt's return codes in a word or two (runs.csv's status column)
 IPOPT_STATUS = {0: "optimal", 1: "acceptable", 2: "infeasible", 3: "step too small", 4: "diverging",
                 5: "user stop", 6: "feasible point", -1: "iteration limit", -2: "restoration failed",
-                -3: "step error", -4: "time limit", -10: "too few degrees of freedom", -11: "invalid problem",
+                -3: "step error", -4: "time limit", -5: "time limit", -10: "too few degrees of freedom", -11: "invalid problem",
                 -12: "invalid option", -13: "invalid number", -199: "internal error"}
 
 
@@ -144,24 +144,27 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
         opts.update(options or {})
         if mult is not None:
             opts.update(IPOPT_WARM_OPTIONS)
-        if deadline.at is not None:
-            left = deadline.left()
-            if left <= 0.5:
-                message = "time limit"
-                break
-            opts["max_cpu_time"] = float(left)
+        if deadline.at is not None and deadline.left() <= 0.5:
+            message = "time limit"
+            break
         if nlp is None:  # Pyomo's own interface to an ipopt executable (warm start: primal only)
             from pyomo.environ import SolverFactory
             opts = {k: v for k, v in opts.items() if not k.startswith("warm_start")}
+            if deadline.at is not None:  # an executable's own limit (CPU time: all it has before 3.14)
+                opts["max_cpu_time"] = float(deadline.left())
             res = SolverFactory("ipopt").solve(model, options=opts, load_solutions=False)
             message = str(res.solver.termination_condition)
             if len(res.solution) == 0:
                 break
             model.solutions.load_from(res)
             continue
-        out = nlp.solve(x0=x, options=opts, load=True, multipliers=mult)
+        # the deadline in wall time, asked at every iteration
+        out = nlp.solve(x0=x, options=opts, load=True, multipliers=mult, stop=deadline.expired)
         iterations += out["iterations"]
         message = IPOPT_STATUS.get(out["status"], f"ipopt status {out['status']}")
+        if out["status"] == 5 and deadline.expired():
+            message = "time limit"
+            break
         if out["status"] in (-3, -10, -11, -12, -13, -199):
             break
         x, mult = out["x"], (out["mult_g"], out["mult_x_L"], out["mult_x_U"])

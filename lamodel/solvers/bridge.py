@@ -45,6 +45,7 @@ _STATUS = {
     -2: (SolverStatus.warning, TerminationCondition.other),  # restoration failed
     -3: (SolverStatus.error, TerminationCondition.error),
     -4: (SolverStatus.warning, TerminationCondition.maxTimeLimit),
+    -5: (SolverStatus.warning, TerminationCondition.maxTimeLimit),  # max_wall_time (Ipopt 3.14's code)
     -10: (SolverStatus.error, TerminationCondition.error),  # not enough degrees of freedom
     -11: (SolverStatus.error, TerminationCondition.error),  # invalid problem definition
     -12: (SolverStatus.error, TerminationCondition.error),  # invalid option
@@ -197,11 +198,15 @@ class QuadraticNLP:
         x = np.array([0.0 if v.value is None else float(v.value) for v in self.variables])
         return np.clip(x, xl, xu)
 
-    def solve(self, x0=None, options=None, tee=False, load=True, multipliers=None):
+    def solve(self, x0=None, options=None, tee=False, load=True, multipliers=None, stop=None):
         """Run Ipopt from x0 (default: the variables' current values).
 
         ``multipliers`` = (mult_g, mult_x_L, mult_x_U) of an earlier solve warm-starts the
-        duals too (with Ipopt's ``warm_start_init_point yes``).
+        duals too (with Ipopt's ``warm_start_init_point yes``). ``stop``: a callable asked
+        at every iteration; True ends the solve there (Ipopt's status 5, "user stop"): the
+        way to a limit in wall time, which Debian's Ipopt 3.11 lacks (its ``max_cpu_time``
+        counts CPU seconds, fewer than the wall's on a loaded machine). The option
+        ``max_wall_time`` (Ipopt 3.14's name) is honoured so.
 
         Returns a dict with x, status (Ipopt's code), message, objective, iterations,
         seconds, mult_g (Ipopt's sign: L = f + mult_g^T g), mult_x_L, mult_x_U.
@@ -210,21 +215,28 @@ class QuadraticNLP:
 
         xl, xu, cl, cu = self.bounds()
         x0 = self.start_point() if x0 is None else np.clip(np.asarray(x0, dtype=float), xl, xu)
-        nlp = _Callbacks(self)
+        options = dict(options or {})
+        wall = options.pop("max_wall_time", None)
+        start = time.perf_counter()
+        if wall is not None:
+            stop = _within(start + float(wall), stop)
+        nlp = _Callbacks(self, stop)
         problem = cyipopt.Problem(n=len(x0), m=len(cl), problem_obj=nlp, lb=xl, ub=xu, cl=cl, cu=cu)
         problem.add_option("print_level", 5 if tee else 0)
         problem.add_option("sb", "yes")  # no banner
-        for k, v in (options or {}).items():
+        for k, v in options.items():
             problem.add_option(k, v)
-        start = time.perf_counter()
         if multipliers is None:
             x, info = problem.solve(x0)
         else:
             lam, zl, zu = multipliers
             x, info = problem.solve(x0, lagrange=np.asarray(lam), zl=np.asarray(zl), zu=np.asarray(zu))
         seconds = time.perf_counter() - start
-        out = dict(x=np.asarray(x), status=int(info["status"]),
-                   message=info["status_msg"].decode() if isinstance(info["status_msg"], bytes) else str(info["status_msg"]),
+        status = int(info["status"])
+        message = info["status_msg"].decode() if isinstance(info["status_msg"], bytes) else str(info["status_msg"])
+        if status == 5 and wall is not None and seconds > float(wall):
+            status, message = -5, "Maximum wall time exceeded."
+        out = dict(x=np.asarray(x), status=status, message=message,
                    objective=self.sense * float(info["obj_val"]), iterations=nlp.iterations, seconds=seconds,
                    mult_g=np.asarray(info["mult_g"]), mult_x_L=np.asarray(info["mult_x_L"]),
                    mult_x_U=np.asarray(info["mult_x_U"]), g=np.asarray(info["g"]))
@@ -247,11 +259,17 @@ class QuadraticNLP:
                 rc[v] = self.sense * float(zl - zu)
 
 
-class _Callbacks:
-    """The object cyipopt calls; counts iterations."""
+def _within(end: float, stop=None):
+    """A stop that is True past ``end`` (on ``time.perf_counter``) or when ``stop`` is."""
+    return lambda: time.perf_counter() > end or (stop is not None and bool(stop()))
 
-    def __init__(self, nlp: QuadraticNLP):
+
+class _Callbacks:
+    """The object cyipopt calls; counts iterations, and ends the solve when ``stop()``."""
+
+    def __init__(self, nlp: QuadraticNLP, stop=None):
         self.nlp = nlp
+        self.stop = stop
         self.iterations = 0
         self.objective = nlp.objective_value
         self.gradient = nlp.gradient
@@ -263,7 +281,7 @@ class _Callbacks:
 
     def intermediate(self, alg_mod, iter_count, *args):
         self.iterations = int(iter_count)
-        return True
+        return self.stop is None or not self.stop()
 
 
 def _import_suffix(block, name):

@@ -109,3 +109,33 @@ def test_fixed_variables_are_held():
     solve(m)
     assert pe.value(m.y) == 2.5
     assert pe.value(m.x) == pytest.approx(0.5, abs=1e-6)
+
+
+def test_max_wall_time_stops_the_solve_in_wall_time():
+    """Debian's Ipopt 3.11 has only max_cpu_time; max_wall_time (3.14's name) is honoured by
+    asking the clock at every iteration."""
+    m = pe.ConcreteModel()
+    m.x = pe.Var(initialize=3)
+    m.y = pe.Var(initialize=-2)
+    m.c = pe.Constraint(expr=m.x ** 2 + 2 * m.y ** 2 <= 1)
+    m.obj = pe.Objective(expr=(m.x - 3) ** 2 + m.x * m.y)
+    res = solve(m, max_wall_time=0.0)
+    assert res.solver.termination_condition == TerminationCondition.maxTimeLimit
+    assert res.solver.iterations == 0
+    assert solve(m, max_wall_time=60.0).solver.termination_condition == TerminationCondition.optimal
+
+
+def test_an_ipopt_start_ends_at_its_deadline_in_wall_time(wall33):
+    """The polish's ladder asks the deadline at every Ipopt iteration: one that expires after
+    a few questions ends the start there, said as the time limit."""
+    from lamodel.formulation.model import create_model
+    from lamodel.search.driver import solve as lamodel_solve
+    from lamodel.search.ipopt import ipopt_ladder
+    from lamodel.search.options import Deadline, SolveOptions
+    from lamodel.solvers.bridge import QuadraticNLP
+    start = lamodel_solve(wall33, SolveOptions(starts=0)).best
+    asked = []
+    deadline = Deadline(at=None, stop=lambda: asked.append(1) or len(asked) > 3)
+    model = create_model(wall33)
+    state, message, iterations = ipopt_ladder(model, QuadraticNLP(model), wall33, start, deadline=deadline)
+    assert message == "time limit" and iterations <= 3
