@@ -90,6 +90,15 @@ def test_block_with_a_closed_form_and_its_view(tmp_path):
     assert again.returncode == 0, again.stderr
     assert sorted(p.name for p in (tmp_path / "r").iterdir()) == ["blocks.csv", "contacts.csv", "runs.csv",
                                                                   "summary.csv"]
+    # the oracle sees a live_load that the blocks do not carry, and one that is no vector
+    summary = pd.read_csv(tmp_path / "r" / "summary.csv", keep_default_na=False)
+    for told, seen in (("1 0 0", None), ("0 1", "live_load '0 1' is not three numbers")):
+        summary.loc[0, "live_load"] = told
+        summary.to_csv(tmp_path / "r" / "summary.csv", index=False)
+        if seen is None:
+            assert live_load_gap(tmp_path / "r") == pytest.approx(1.0)
+        else:
+            assert seen in violations(tmp_path / "r")
 
 
 def test_method_all_puts_the_methods_side_by_side(tmp_path):
