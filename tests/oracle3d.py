@@ -8,6 +8,11 @@ that they balance, that every point's force lies in the Coulomb cone, and — fr
 motions — the mechanism: ``live . u = 1``, openings only where N = 0, slips only on the
 cone with T along the slip, and the seed's eq. 5, ``alpha = alpha_K = -dead . u +
 sum(-mu N |slip|)``.
+
+A folder without a certified state must say so: alpha, every force and every motion empty
+(NaN), every mode ``unknown`` (:func:`uncertified`). summary.csv's ``live_load`` must be
+empty or three numbers (:func:`live_load`), and :func:`live_load_gap` measures how far the
+blocks' live loads are from ``live_load x unit_weight x volume``.
 """
 import csv
 import math
@@ -102,10 +107,74 @@ def check_folder(folder):
             "opening": opening, "flow_rule": flow, "virtual_work": abs(alpha_k - alpha) / max(1.0, abs(alpha))}
 
 
+def _number(cell):
+    """A cell as a float; an empty cell is NaN (as the writer leaves nothing certified)."""
+    return math.nan if cell.strip() == "" else float(cell)
+
+
+def certified(folder):
+    """summary.csv's ``certified``."""
+    return _rows(str(folder) + "/summary.csv")[0]["certified"].strip().lower() == "true"
+
+
+def uncertified(folder):
+    """What a folder without a certified state writes that is not empty (NaN), as text:
+    alpha, the forces of contacts.csv, the motions of blocks.csv; a mode other than
+    ``unknown``."""
+    folder = str(folder)
+    bad = []
+    if not math.isnan(_number(_rows(folder + "/summary.csv")[0]["alpha"])):
+        bad.append("alpha is written without a certified state")
+    for table, names in (("contacts", ("N", "T1", "T2")), ("blocks", ("ux", "uy", "uz", "rx", "ry", "rz"))):
+        rows = _rows(f"{folder}/{table}.csv")
+        known = sum(1 for r in rows for n in names if not math.isnan(_number(r[n])))
+        if known:
+            bad.append(f"{table}.csv: {known} values of {', '.join(names)} written without a certified state")
+    modes = {c["mode"] for c in _rows(folder + "/contacts.csv")} - {"unknown"}
+    if modes:
+        bad.append(f"contacts.csv: modes {sorted(modes)} without a certified state")
+    return bad
+
+
+def live_load(folder):
+    """summary.csv's ``live_load``: three floats, or None when empty; ValueError otherwise."""
+    cell = _rows(str(folder) + "/summary.csv")[0]["live_load"].strip()
+    if cell == "":
+        return None
+    parts = [float(v) for v in cell.split()]
+    if len(parts) != 3 or not all(math.isfinite(v) for v in parts):
+        raise ValueError(f"live_load '{cell}' is not three numbers")
+    return parts
+
+
+def live_load_gap(folder):
+    """The largest difference, over the blocks, between the live force of blocks.csv and
+    ``live_load x unit_weight x volume`` of summary.csv, by the largest live force (NaN
+    when ``live_load`` is empty). 0 when every block's live load is the weight's share."""
+    load = live_load(folder)
+    if load is None:
+        return math.nan
+    weight = float(_rows(str(folder) + "/summary.csv")[0]["unit_weight"])
+    blocks = _rows(str(folder) + "/blocks.csv")
+    live = [_vec(b, ("live_x", "live_y", "live_z")) for b in blocks]
+    share = [[c * weight * float(b["volume"]) for c in load] for b in blocks]
+    scale = max([abs(v) for f in live + share for v in f] + [1e-300])
+    return max(abs(f[i] - s[i]) for f, s in zip(live, share) for i in range(3)) / scale
+
+
 def violations(folder, tol=1e-6):
-    """The conditions of :func:`check_folder` beyond ``tol`` (alpha_fit against alpha), as text."""
+    """The conditions of :func:`check_folder` beyond ``tol`` (alpha_fit against alpha), as
+    text; for a folder without a certified state, those of :func:`uncertified`; in both, a
+    ``live_load`` that is neither empty nor three numbers."""
+    try:
+        live_load(folder)
+        bad = []
+    except ValueError as exc:
+        bad = [str(exc)]
+    if not certified(folder):
+        return bad + uncertified(folder)
     r = check_folder(folder)
-    bad = [f"{k} {v:.2e}" for k, v in r.items() if k not in ("alpha", "alpha_fit") and v > tol]
+    bad += [f"{k} {v:.2e}" for k, v in r.items() if k not in ("alpha", "alpha_fit") and v > tol]
     if abs(r["alpha_fit"] - r["alpha"]) > tol * max(1.0, abs(r["alpha"])):
         bad.append(f"alpha_fit {r['alpha_fit']:.9f} != alpha {r['alpha']:.9f}")
     return bad

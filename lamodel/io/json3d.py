@@ -18,7 +18,7 @@ Faces are vertex loops ordered counter-clockwise seen from outside. The dead loa
 block is ``unit_weight * volume`` along -z at its centroid; its live load is
 ``live_load * unit_weight * volume``. Point loads add their force and their moment about the
 centroid; when the file gives live point loads but no ``live_load``, alpha multiplies only
-them. A contact takes the smaller ``mu`` of its two bodies.
+them (and ``meta["live_load"]`` is None: no live load per unit weight was applied). A contact takes the smaller ``mu`` of its two bodies.
 
 Readers of other formats (COMPAS assemblies, meshes) produce this same spec, with the
 defaults they applied listed under ``"meta"``; :func:`structure3d_from_spec` builds all of them.
@@ -135,8 +135,10 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     weight = unit_weight * volume
     dead = np.c_[np.zeros((len(moving), 2)), -weight]
     live = weight[:, None] * live_load[None, :]
+    applied = live_load.tolist()  # the live load per unit weight, as summary.csv reports it
     if "live_load" not in spec and writes_live(spec):
         live[:] = 0.0  # alpha multiplies only the live loads the file writes
+        applied = None
     dead_m, live_m = np.zeros((len(moving), 3)), np.zeros((len(moving), 3))
     rows = {"dead": dead, "live": live, "dead_m": dead_m, "live_m": live_m}
     row = {int(p): r for r, p in enumerate(moving)}
@@ -154,7 +156,7 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     iface_mu = np.array([min(mus[f.a], mus[f.b]) for f in interfaces])
     meta = dict(spec.get("meta") or {})
     meta.setdefault("source", "lamodel JSON")
-    meta.update(unit_weight=unit_weight, mu=mu_all, live_load=live_load.tolist(), tolerance=rel_tol,
+    meta.update(unit_weight=unit_weight, mu=mu_all, live_load=applied, tolerance=rel_tol,
                 contact_points="vertices" if not grid else f"grid:{grid}")
     s = Structure3D(
         name=name, blocks=[ids[j] for j in moving], centroid=centroid, dead=dead, live=live,

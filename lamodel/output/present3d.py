@@ -125,9 +125,9 @@ def _solve(s, method, options, stop, on_associative=None):
         done[m] = r = solve3d(s, method=which, explore=explore, time_limit=options.time_limit,
                               seed=int(options.seed), stop=stop, options=options if m == "lamodel" else None,
                               on_associative=on_associative if m == "lamodel" else None)
-        for k, v in r.methods.items():   # each method's own answer, certified (the search's: its path)
-            runs.append((k, v))
-            iterations[k] = r.n_cone
+        for v in r.methods.values():   # each method's own answer, certified, named as --method names it
+            runs.append((m, v))
+            iterations[m] = r.n_cone
         if r.status == INTERRUPTED:
             break
     table = runs_frame(runs)
@@ -136,7 +136,7 @@ def _solve(s, method, options, stop, on_associative=None):
     certified = {k: r for k, r in done.items() if r.state is not None}
     # the least certified alpha; on a tie the search's state (its path says how it was found)
     keep = min(certified, key=lambda k: (certified[k].alpha, k != "lamodel")) if certified else list(done)[-1]
-    return done[keep], table, methods_frame3d(table, iterations), next(iter(done[keep].methods), keep)
+    return done[keep], table, methods_frame3d(table, iterations), keep
 
 
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,

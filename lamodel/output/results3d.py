@@ -1,19 +1,26 @@
-"""The result folder of a solve in space: summary.csv, blocks.csv, contacts.csv, runs.csv
-(and methods.csv for ``--method all``).
+"""The result folder of a solve in space, written by :func:`write_results3d` alone:
+summary.csv, blocks.csv, contacts.csv, runs.csv (and methods.csv for ``--method all``).
 
-* ``summary.csv``: one row (as in the plane): instance, alpha, certified, alpha_associative,
-  status, message, method, path (how the state was found and certified), residual (the
-  largest violation of the residual test, one dimension), n_blocks, n_supports,
-  n_interfaces, n_contacts (contact points), first_alpha, first_time_s, wall_time_s,
-  cone_programs, lps, seed, time_limit, dimension (3), source, mu, unit_weight, live_load
-  (``X Y Z``), defaults_applied (the mechanical data the input lacked, set to lamodel's
-  defaults), length_unit, force_unit, picture, view.
+Columns, in the order written (``docs/guide/results.md`` gives their meanings):
+
+* ``summary.csv`` (:data:`SUMMARY_COLUMNS3D`), one row: ``instance``, ``alpha``,
+  ``certified``, ``alpha_associative``, ``status``, ``message``, ``method``, ``path``,
+  ``residual``, ``n_blocks``, ``n_supports``, ``n_interfaces``, ``n_contacts``,
+  ``first_alpha``, ``first_time_s``, ``wall_time_s``, ``cone_programs``, ``lps``,
+  ``dimension``, ``source``, ``mu``, ``unit_weight``, ``live_load``, ``defaults_applied``,
+  ``length_unit``, ``force_unit``, ``seed``, ``time_limit``, ``picture``, ``view``,
+  ``alpha_lower``, ``proven_global``, ``alpha_lower_seconds``, ``alpha_lower_check``.
+  ``method`` is the method's name as ``--method`` spells it and ``path`` how its state
+  was found and certified (e.g. ``gap+certify-lp``), as in runs.csv. ``live_load`` is the
+  live force per unit weight applied to the blocks' weight (``X Y Z``), empty when the
+  input gave live point loads and no ``live_load`` (alpha then multiplies those alone).
 * ``blocks.csv`` and ``contacts.csv``: :mod:`lamodel.output.tables3d` (centroids, loads and
   their moments, motions; one row per contact point with its frame, N, T1, T2 and mode).
-  The statics is rebuilt from these two files and alpha alone.
-* ``runs.csv``: one row per method run: run, method, alpha_raw (its own answer),
-  alpha_certified (that answer certified), certified, path (the step that certified it),
-  seconds.
+  The statics is rebuilt from these two files and alpha alone. Without a certified state
+  alpha, the motions and the forces are empty (NaN) and the modes ``unknown``.
+* ``runs.csv`` (:data:`RUN_COLUMNS3D`): one row per method run: ``run``, ``method``,
+  ``alpha_raw`` (its own answer), ``alpha_certified`` (that answer certified),
+  ``certified``, ``path`` (how the certified state was found and certified), ``seconds``.
 * ``methods.csv``: the methods side by side, the columns of
   :data:`lamodel.output.methods.METHOD_COLUMNS`.
 
@@ -33,16 +40,28 @@ from .methods import METHOD_COLUMNS
 from .results import FLOAT_FORMAT
 from .tables3d import blocks_table, contacts_table
 
+#: summary.csv's columns, in the order written (any other column after them).
+SUMMARY_COLUMNS3D = (
+    "instance", "alpha", "certified", "alpha_associative", "status", "message", "method", "path", "residual",
+    "n_blocks", "n_supports", "n_interfaces", "n_contacts", "first_alpha", "first_time_s", "wall_time_s",
+    "cone_programs", "lps", "dimension", "source", "mu", "unit_weight", "live_load", "defaults_applied",
+    "length_unit", "force_unit", "seed", "time_limit", "picture", "view",
+    "alpha_lower", "proven_global", "alpha_lower_seconds", "alpha_lower_check")
+#: runs.csv's columns, in the order written.
+RUN_COLUMNS3D = ("run", "method", "alpha_raw", "alpha_certified", "certified", "path", "seconds")
+
 #: What each method is, in methods.csv's notes.
 NOTES = {
     "associative": "the associative cone program (an upper bound); its mechanism certified",
     "gap": "the gap alternation from the associative statics (rho 1e3, 1e4)",
-    "successive": "successive cone programming (capacities from the previous normal forces, relaxed)",
+    "successive-lp": "successive cone programming (capacities from the previous normal forces, relaxed)",
     "lamodel": "the certified search (as in the plane): gap alternation, descents, continuations, the GA",
 }
 
 
 def _csv(frame: pd.DataFrame, path: Path) -> str:
+    floats = frame.select_dtypes("float").columns
+    frame = frame.assign(**{c: frame[c] + 0.0 for c in floats})   # + 0.0: -0.0 (a block at rest) is written 0
     return atomic_write(path, lambda tmp: frame.to_csv(tmp, index=False, float_format=FLOAT_FORMAT,
                                                        lineterminator="\n", na_rep=""))
 
@@ -90,8 +109,7 @@ def runs_frame(runs: list) -> pd.DataFrame:
         rows.append({"run": k, "method": method, "alpha_raw": m.get("raw", np.nan), "alpha_certified": cert,
                      "certified": bool(np.isfinite(cert)), "path": m.get("own_path", m.get("path", "")),
                      "seconds": m.get("seconds", np.nan)})
-    return pd.DataFrame(rows, columns=["run", "method", "alpha_raw", "alpha_certified", "certified", "path",
-                                       "seconds"])
+    return pd.DataFrame(rows, columns=list(RUN_COLUMNS3D))
 
 
 def methods_frame3d(runs: pd.DataFrame, iterations: dict) -> pd.DataFrame:
@@ -109,11 +127,13 @@ def methods_frame3d(runs: pd.DataFrame, iterations: dict) -> pd.DataFrame:
 
 def write_results3d(folder, s: Structure3D, result, summary: dict, runs: pd.DataFrame,
                     methods: pd.DataFrame | None = None) -> list:
-    """Write the result folder's tables into ``folder``; returns their paths."""
+    """Write the result folder's tables into ``folder`` (see the module doc); returns
+    their paths. Without a certified state the forces and motions are NaN, never zeros."""
     folder = Path(folder)
     state = result.state
     forces = None if state is None else np.column_stack([state.N, state.T1, state.T2])
-    tables = {"summary.csv": pd.DataFrame([summary]), "blocks.csv": blocks_table(s, result.motions),
+    order = [c for c in SUMMARY_COLUMNS3D if c in summary] + [c for c in summary if c not in SUMMARY_COLUMNS3D]
+    tables = {"summary.csv": pd.DataFrame([summary], columns=order), "blocks.csv": blocks_table(s, result.motions),
               "contacts.csv": contacts_table(s, forces, None if state is None else state.modes),
               "runs.csv": runs}
     if methods is not None:

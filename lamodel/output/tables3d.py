@@ -1,13 +1,25 @@
-"""Tables of a 3D structure and its state: blocks.csv, contacts.csv, the contacts summary.
+"""The tables of a 3D structure and its state (blocks.csv, contacts.csv) and its contacts
+summary; :func:`lamodel.output.results3d.write_results3d` writes them.
 
-Columns (the conventions of :mod:`lamodel.structure3d`):
+Columns, in the order written (the conventions of :mod:`lamodel.structure3d`):
 
-* ``blocks.csv``: block, x, y, z (centroid), dead_x, dead_y, dead_z, live_x, live_y,
-  live_z, dead_mx, dead_my, dead_mz, live_mx, live_my, live_mz (moments of the loads about
-  the centroid), volume, ux, uy, uz, rx, ry, rz (motion at the centroid).
-* ``contacts.csv``: one row per contact point: interface, block_a, block_b, x, y, z, nx,
-  ny, nz (from a to b), t1x, t1y, t1z, t2x, t2y, t2z, mu, N, T1, T2, mode. The force
-  ``N n + T1 t1 + T2 t2`` acts on block_a at the point, its opposite on block_b.
+* ``blocks.csv`` (:data:`BLOCK_COLUMNS3D`): ``block``, ``x``, ``y``, ``z`` (centroid),
+  ``dead_x``, ``dead_y``, ``dead_z``, ``live_x``, ``live_y``, ``live_z``, ``dead_mx``,
+  ``dead_my``, ``dead_mz``, ``live_mx``, ``live_my``, ``live_mz`` (moments of the loads
+  about the centroid), ``volume``, ``ux``, ``uy``, ``uz``, ``rx``, ``ry``, ``rz`` (motion
+  at the centroid).
+* ``contacts.csv`` (:data:`CONTACT_COLUMNS3D`): one row per contact point: ``interface``,
+  ``block_a``, ``block_b``, ``x``, ``y``, ``z``, ``nx``, ``ny``, ``nz`` (from a to b),
+  ``t1x``, ``t1y``, ``t1z``, ``t2x``, ``t2y``, ``t2z``, ``mu``, ``N``, ``T1``, ``T2``,
+  ``mode``. The force ``N n + T1 t1 + T2 t2`` acts on block_a at the point, its opposite
+  on block_b.
+
+Without a certified state the motions and the forces are empty (NaN) and every mode is
+``unknown``: nothing uncertified is written as if it were known. A point's mode is
+``opening`` when it separates (whatever its tangential motion: an open point carries no
+force, so it does not slide on anything), else ``sliding`` when it slips, else ``stuck``
+(:func:`lamodel.search.certify3d.point_modes`) — the plane's rule for a contact whose two
+ends separate (``open`` before ``sliding``); a point has no second end to hinge about.
 
 With these and alpha every block's equilibrium can be rebuilt from the files alone.
 """
@@ -16,8 +28,17 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .. import __version__
 from ..structure3d import Structure3D
+
+#: blocks.csv's columns, in the order written.
+BLOCK_COLUMNS3D = ("block", "x", "y", "z", "dead_x", "dead_y", "dead_z", "live_x", "live_y", "live_z",
+                   "dead_mx", "dead_my", "dead_mz", "live_mx", "live_my", "live_mz", "volume",
+                   "ux", "uy", "uz", "rx", "ry", "rz")
+#: contacts.csv's columns, in the order written.
+CONTACT_COLUMNS3D = ("interface", "block_a", "block_b", "x", "y", "z", "nx", "ny", "nz",
+                     "t1x", "t1y", "t1z", "t2x", "t2y", "t2z", "mu", "N", "T1", "T2", "mode")
+#: The mode of every point without a certified state (as in the plane).
+UNKNOWN = "unknown"
 
 
 def interface_areas(s: Structure3D) -> np.ndarray:
@@ -28,9 +49,16 @@ def interface_areas(s: Structure3D) -> np.ndarray:
     return np.array(out)
 
 
+def _known(values, shape) -> np.ndarray:
+    """``values`` as floats of ``shape``, NaN when None (nothing certified)."""
+    if values is None:
+        return np.full(shape, np.nan)
+    return np.asarray(values, dtype=float).reshape(shape)
+
+
 def blocks_table(s: Structure3D, motions=None) -> pd.DataFrame:
-    """One row per block (see the module docs); ``motions`` (nb, 6) or None (zeros)."""
-    u = np.zeros((s.n_blocks, 6)) if motions is None else np.asarray(motions, dtype=float).reshape(s.n_blocks, 6)
+    """One row per block (see the module docs); ``motions`` (nb, 6) or None (NaN)."""
+    u = _known(motions, (s.n_blocks, 6))
     cols = {"block": s.blocks}
     for name, arr in (("", s.centroid), ("dead_", s.dead), ("live_", s.live)):
         for k, c in enumerate("xyz"):
@@ -41,13 +69,13 @@ def blocks_table(s: Structure3D, motions=None) -> pd.DataFrame:
     cols["volume"] = s.volume
     for k, c in enumerate(("ux", "uy", "uz", "rx", "ry", "rz")):
         cols[c] = u[:, k]
-    return pd.DataFrame(cols)
+    return pd.DataFrame(cols, columns=list(BLOCK_COLUMNS3D))
 
 
 def contacts_table(s: Structure3D, forces=None, modes=None) -> pd.DataFrame:
-    """One row per contact point; ``forces`` (np, 3) of (N, T1, T2) or None (zeros),
-    ``modes`` (np,) strings or None (empty)."""
-    f = np.zeros((s.n_points, 3)) if forces is None else np.asarray(forces, dtype=float).reshape(s.n_points, 3)
+    """One row per contact point; ``forces`` (np, 3) of (N, T1, T2) or None (NaN),
+    ``modes`` (np,) strings or None (``unknown``)."""
+    f = _known(forces, (s.n_points, 3))
     cols = {"interface": [s.interfaces[i] for i in s.point_interface],
             "block_a": [s.iface_a[i] for i in s.point_interface],
             "block_b": [s.iface_b[i] for i in s.point_interface]}
@@ -56,46 +84,14 @@ def contacts_table(s: Structure3D, forces=None, modes=None) -> pd.DataFrame:
             cols[f"{name}{c}"] = arr[:, k]
     cols["mu"] = s.mu
     cols["N"], cols["T1"], cols["T2"] = f[:, 0], f[:, 1], f[:, 2]
-    cols["mode"] = [""] * s.n_points if modes is None else list(modes)
-    return pd.DataFrame(cols)
-
-
-def write_tables3d(s: Structure3D, folder, motions=None, forces=None, modes=None) -> list:
-    """Write blocks.csv and contacts.csv into ``folder`` (atomically); returns their paths."""
-    from pathlib import Path
-
-    from ..io.files import atomic_write
-    out = []
-    for name, df in (("blocks.csv", blocks_table(s, motions)), ("contacts.csv", contacts_table(s, forces, modes))):
-        path = Path(folder) / name
-        atomic_write(path, lambda tmp, df=df: df.to_csv(tmp, index=False, float_format="%.12g"))
-        out.append(str(path))
-    return out
+    cols["mode"] = [UNKNOWN] * s.n_points if modes is None else list(modes)
+    return pd.DataFrame(cols, columns=list(CONTACT_COLUMNS3D))
 
 
 def contacts_summary(s: Structure3D) -> dict:
     """Blocks, supports, interfaces, contact points and total interface area of a structure."""
     return {"blocks": s.n_blocks, "supports": len(s.supports), "interfaces": s.n_interfaces,
             "points": s.n_points, "area": float(interface_areas(s).sum())}
-
-
-def summary_rows(s: Structure3D) -> list:
-    """(key, value) rows for summary.csv: the contacts summary and the input's defaults."""
-    rows = [("lamodel", __version__), ("structure", s.name), ("dimension", 3)]
-    rows += list(contacts_summary(s).items())
-    for key in ("source", "unit_weight", "mu", "live_load", "tolerance", "contact_points"):
-        if key in s.meta:
-            rows.append((key, s.meta[key]))
-    if s.meta.get("defaults"):
-        rows.append(("defaults_applied", " ".join(s.meta["defaults"])))
-    return rows
-
-
-def write_summary3d(s: Structure3D, path, rows=()) -> str:
-    """Write summary.csv (key, value): :func:`summary_rows` then the caller's ``rows``."""
-    from ..io.files import atomic_write
-    df = pd.DataFrame(list(summary_rows(s)) + list(rows), columns=["key", "value"])
-    return atomic_write(path, lambda tmp: df.to_csv(tmp, index=False))
 
 
 def build_summary3d(path, **options) -> str | None:

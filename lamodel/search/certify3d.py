@@ -78,7 +78,11 @@ class CollapseState3D:
 
 def point_modes(q, tol=FLOW_TOL) -> np.ndarray:
     """'opening' where the point opens, 'sliding' where it slips without opening, else
-    'stuck'; motions below ``tol`` of the largest strain are none."""
+    'stuck'; motions below ``tol`` of the largest strain are none. Opening comes first,
+    whatever the tangential motion: an open point has left its contact (N = T = 0), so
+    its tangential motion is no frictional slip. The plane's rule is the same (a contact
+    whose two ends separate is ``open``, not ``sliding``); its ``sliding+hinging`` is a
+    contact turning about one end that stays in touch, which a point has not."""
     npt = len(q) // 3
     qn, slip = q[:npt], np.hypot(q[npt:2 * npt], q[2 * npt:])
     U = max(np.abs(q).max() if q.size else 0.0, 1e-300)

@@ -94,6 +94,7 @@ class Outcome:
     history: list = field(default_factory=list)     # (seconds, alpha, source, LP solves) of each improvement
     lps_first: int = 0                              # LP solves of the first phase (the stopping rule's unit)
     work: int = 0                                   # LP work of the search (HighsLP.work: iterations x rows)
+    certification_lps: int = 0                      # in space: the certification LPs among the solves
 
     @property
     def certified(self) -> bool:
@@ -184,7 +185,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
                    history=list(record.history) if record is not None else [],
-                   lps_first=work.get("first", 0), work=engine.starts.work() if engine is not None else 0)
+                   lps_first=work.get("first", 0), work=engine.starts.work() if engine is not None else 0,
+                   certification_lps=getattr(engine.problem, "n_lp", 0) if engine is not None else 0)
 
 
 # ------------------------------------------------------------------------ the search

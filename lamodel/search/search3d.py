@@ -84,7 +84,7 @@ def solve3d(structure: Structure3D, method: str = "all", time_limit: float | Non
 
 
 def _searched(structure, opt, stop, on_associative=None) -> Result3D:
-    from .driver import path_of, solve
+    from .driver import solve
     out = solve(structure, opt, stop, on_associative)
     best = out.best
     alpha = np.nan if best is None else best.alpha
@@ -92,8 +92,9 @@ def _searched(structure, opt, stop, on_associative=None) -> Result3D:
     r = Result3D(out.status, best, out.alpha_associative, out.message,
                  *out.first, associative_time=out.phases.get("associative", np.nan), seconds=out.wall_time_s,
                  history=[h[:3] for h in out.history],
-                 n_cone=run.iterations if run is not None else 0)
-    r.methods["lamodel"] = {"raw": alpha, "certified": alpha, "own": alpha, "own_path": path_of(best),
+                 n_cone=run.iterations if run is not None else 0, n_lp=out.certification_lps)
+    # its path as summary.csv gives it: how the state was found and certified
+    r.methods["lamodel"] = {"raw": alpha, "certified": alpha, "own": alpha, "own_path": r.path,
                             "seconds": run.seconds if run is not None else out.wall_time_s}
     return r
 

@@ -6,6 +6,7 @@ import shutil
 import subprocess
 import tempfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -16,7 +17,8 @@ from lamodel.geometry import generators3d as G
 from lamodel.io import read
 from lamodel.io.json3d import structure3d_from_spec
 from lamodel.output.plot3d import plot_structure3d
-from lamodel.output.tables3d import build_summary3d, write_tables3d
+from lamodel.output.results3d import write_results3d
+from lamodel.output.tables3d import build_summary3d
 from lamodel.output.view3d import write_view3d
 
 from test_contacts3d import stack_spec
@@ -38,16 +40,12 @@ def compas_json(spec, with_support=True):
 
 
 def test_compas_assembly_reads_with_defaults(tmp_path):
-    from lamodel.output.tables3d import write_summary3d
     path = tmp_path / "stack.json"
     path.write_text(json.dumps(compas_json(stack_spec())))
     s = read(path)
     assert s.dimension == 3 and s.n_interfaces == 16 and s.supports == ["0"]
     assert s.meta["defaults"] == ["mu", "unit_weight", "live_load"] and s.meta["mu"] == 0.6
-    summary = pd.read_csv(write_summary3d(s, tmp_path / "summary.csv", [("alpha", 0.5)])).set_index("key")["value"]
-    assert summary["source"] == "COMPAS assembly" and float(summary["mu"]) == 0.6
-    assert summary["defaults_applied"] == "mu unit_weight live_load" and summary["live_load"] == "[1.0, 0.0, 0.0]"
-    assert int(summary["interfaces"]) == 16 and float(summary["alpha"]) == 0.5
+    assert s.meta["source"] == "COMPAS assembly" and s.meta["live_load"] == [1.0, 0.0, 0.0]
     assert np.allclose(s.live, s.dead[:, [2, 1, 0]] * [-1, 0, 0])     # +x, equal to the weight
     path.write_text(json.dumps(compas_json(stack_spec(), with_support=False)))
     with pytest.raises(InputError, match="no block is a support"):
@@ -121,7 +119,11 @@ def test_csv_tables_rebuild_block_equilibrium(tmp_path):
     x = np.linalg.lstsq(A, -f, rcond=None)[0]
     forces = x.reshape(-1, 3)
     motions = np.zeros((s.n_blocks, 6))
-    write_tables3d(s, tmp_path, motions=motions, forces=forces, modes=["closed"] * s.n_points)
+    motions[0, 3] = -0.0                   # a block at rest, as a solver may leave it
+    state = SimpleNamespace(N=forces[:, 0], T1=forces[:, 1], T2=forces[:, 2], modes=["stuck"] * s.n_points)
+    write_results3d(tmp_path, s, SimpleNamespace(state=state, motions=motions), {"instance": s.name, "alpha": alpha},
+                    pd.DataFrame())
+    assert ",-0," not in (tmp_path / "blocks.csv").read_text().replace("\n", ",")
     blocks, contacts = pd.read_csv(tmp_path / "blocks.csv"), pd.read_csv(tmp_path / "contacts.csv")
     res = {}
     for r in blocks.itertuples():
@@ -139,6 +141,25 @@ def test_csv_tables_rebuild_block_equilibrium(tmp_path):
                     res[body][3 + k] += sign * m[k]
     assert max(abs(v) for r in res.values() for v in r) < 1e-9
     assert len(contacts) == s.n_points and set(contacts["interface"]) == set(s.interfaces)
+
+
+def test_a_folder_without_a_certified_state_writes_nan_not_zeros(tmp_path):
+    """Nothing certified: the forces, the motions and alpha are empty, the modes unknown
+    (the independent oracle reads them so), never zeros that read as a state."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from oracle3d import uncertified, violations
+    s = structure3d_from_spec(stack_spec())
+    write_results3d(tmp_path, s, SimpleNamespace(state=None, motions=None),
+                    {"instance": s.name, "alpha": np.nan, "certified": False, "live_load": "1 0 0"}, pd.DataFrame())
+    contacts, blocks = pd.read_csv(tmp_path / "contacts.csv"), pd.read_csv(tmp_path / "blocks.csv")
+    assert contacts[["N", "T1", "T2"]].isna().all().all() and set(contacts["mode"]) == {"unknown"}
+    assert blocks[["ux", "uy", "uz", "rx", "ry", "rz"]].isna().all().all()
+    assert uncertified(tmp_path) == [] and violations(tmp_path) == []
+    # the oracle sees a zero written where nothing is known
+    contacts.loc[3, "N"] = 0.0
+    contacts.to_csv(tmp_path / "contacts.csv", index=False)
+    assert uncertified(tmp_path) == ["contacts.csv: 1 values of N, T1, T2 written without a certified state"]
 
 
 @pytest.mark.slow

@@ -17,7 +17,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT / "tests" / "geometry3d"))
-from oracle3d import check_folder, violations  # noqa: E402
+from oracle3d import check_folder, live_load_gap, uncertified, violations  # noqa: E402
 from test_contacts3d import cube, stack_spec  # noqa: E402
 
 
@@ -81,6 +81,7 @@ def test_block_with_a_closed_form_and_its_view(tmp_path):
     assert summary.alpha[0] == pytest.approx(0.25, abs=1e-9)                # b / h
     assert summary.view[0] == "view.html"
     assert check_folder(tmp_path / "r")["virtual_work"] < 1e-9
+    assert summary.live_load[0] == "0 1 0" and live_load_gap(tmp_path / "r") < 1e-15   # the file's, applied
     text = view.read_text()
     assert "Plotly.newPlot" in text and len(text) > 1_000_000               # plotly.js inside the file
     assert not re.search(r"<(script|link|img|iframe)[^>]+(src|href)\s*=\s*[\"']?(https?:)?//", text)
@@ -89,6 +90,15 @@ def test_block_with_a_closed_form_and_its_view(tmp_path):
     assert again.returncode == 0, again.stderr
     assert sorted(p.name for p in (tmp_path / "r").iterdir()) == ["blocks.csv", "contacts.csv", "runs.csv",
                                                                   "summary.csv"]
+    # the oracle sees a live_load that the blocks do not carry, and one that is no vector
+    summary = pd.read_csv(tmp_path / "r" / "summary.csv", keep_default_na=False)
+    for told, seen in (("1 0 0", None), ("0 1", "live_load '0 1' is not three numbers")):
+        summary.loc[0, "live_load"] = told
+        summary.to_csv(tmp_path / "r" / "summary.csv", index=False)
+        if seen is None:
+            assert live_load_gap(tmp_path / "r") == pytest.approx(1.0)
+        else:
+            assert seen in violations(tmp_path / "r")
 
 
 def test_method_all_puts_the_methods_side_by_side(tmp_path):
@@ -96,7 +106,7 @@ def test_method_all_puts_the_methods_side_by_side(tmp_path):
     a = lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), lamodel.SolveOptions(), tmp_path / "r",
                         method="all", picture=False)
     methods = pd.read_csv(tmp_path / "r" / "methods.csv")
-    assert list(methods["method"]) == ["associative", "successive", "lamodel"]
+    assert list(methods["method"]) == ["associative", "successive-lp", "lamodel"]     # as --method names them
     assert methods.alpha_raw[0] >= a.alpha - 1e-9                           # the associative bound
     certified = methods[methods.certified]
     assert len(certified) >= 2 and a.alpha == pytest.approx(certified.alpha_certified.min(), abs=1e-12)
@@ -212,6 +222,7 @@ def test_the_time_limit_and_the_seed_are_honoured_and_recorded(tmp_path):
     summary = pd.read_csv(tmp_path / "r" / "summary.csv")
     assert not a.certified and summary.status[0] == "not_certified"      # stopped before any certificate
     assert summary.time_limit[0] == 1e-3 and summary.seed[0] == 7 and np.isnan(summary.alpha[0])
+    assert uncertified(tmp_path / "r") == [] and violations(tmp_path / "r") == []   # NaN, never zeros
     assert "no certified collapse multiplier" in a.line()
     b = lamodel.analyse(spec, lamodel.SolveOptions(seed=7), tmp_path / "r", picture=False)
     assert b.certified and pd.read_csv(tmp_path / "r" / "summary.csv").seed[0] == 7
@@ -237,7 +248,29 @@ def test_the_ga_options_reach_the_search_in_space(tmp_path):
     a = lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), options, tmp_path / "r", picture=False)
     assert a.certified and a.alpha == pytest.approx(0.5, abs=1e-9)
     runs = pd.read_csv(tmp_path / "r" / "runs.csv")
-    assert list(runs["method"]) == ["lamodel"] and runs["path"][0] == "gap alternation"
+    summary = pd.read_csv(tmp_path / "r" / "summary.csv")
+    assert list(runs["method"]) == ["lamodel"] and runs["path"][0] == summary.path[0] == "gap+certify-lp"
+    assert summary.lps[0] >= 1                           # the certification LP that certified it is counted
     with pytest.raises(lamodel.InputError, match="--starts"):
         lamodel.analyse(write(tmp_path, "cubes2.json", stack_spec()), lamodel.SolveOptions(starts=2),
                         tmp_path / "r2", picture=False)
+
+
+def test_live_point_loads_alone_are_the_live_load_and_summary_says_so(tmp_path):
+    """A file with a live point load and no live_load: alpha multiplies the point load
+    alone, and summary.csv's live_load is empty, not the default 1 0 0 it did not apply."""
+    spec = block_spec()
+    del spec["live_load"]
+    spec["loads"] = [{"block": "B", "at": [0.0, 0.0, 2.0], "force": [0.0, 1.0, 0.0]}]
+    out = run_cli("solve", write(tmp_path, "pushed.json", spec), "--out", tmp_path / "r", "--no-plot")
+    assert out.returncode == 0, out.stderr
+    r = tmp_path / "r"
+    summary = pd.read_csv(r / "summary.csv", keep_default_na=False)
+    assert summary.live_load[0] == "" and np.isnan(live_load_gap(r))
+    # a unit push at the top of a 1 x 0.5 x 2 block of weight 1 tips it about its edge: 0.25 / 2
+    assert float(summary.alpha[0]) == pytest.approx(0.125, abs=1e-9) and violations(r) == []
+    blocks = pd.read_csv(r / "blocks.csv")
+    assert (blocks.live_x[0], blocks.live_y[0], blocks.live_z[0]) == (0.0, 1.0, 0.0)
+    runs = pd.read_csv(r / "runs.csv")
+    assert runs.path[0] == summary.path[0] and runs.method[0] == summary.method[0] == "lamodel"
+    assert "-0," not in (r / "blocks.csv").read_text() + (r / "contacts.csv").read_text()
