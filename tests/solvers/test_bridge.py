@@ -89,13 +89,18 @@ def test_non_quadratic_term_names_the_constraint():
         solve(m)
 
 
-def test_ipopt_options_pass_through():
+def ellipse_model():
+    """min (x - 3)^2 + x y on the ellipse x^2 + 2 y^2 <= 1, from far outside: a few iterations."""
     m = pe.ConcreteModel()
     m.x = pe.Var(initialize=3)
     m.y = pe.Var(initialize=-2)
     m.c = pe.Constraint(expr=m.x ** 2 + 2 * m.y ** 2 <= 1)
     m.obj = pe.Objective(expr=(m.x - 3) ** 2 + m.x * m.y)
-    res = solve(m, max_iter=1)
+    return m
+
+
+def test_ipopt_options_pass_through():
+    res = solve(ellipse_model(), max_iter=1)
     assert res.solver.termination_condition == TerminationCondition.maxIterations
 
 
@@ -114,11 +119,7 @@ def test_fixed_variables_are_held():
 def test_max_wall_time_stops_the_solve_in_wall_time():
     """Debian's Ipopt 3.11 has only max_cpu_time; max_wall_time (3.14's name) is honoured by
     asking the clock at every iteration."""
-    m = pe.ConcreteModel()
-    m.x = pe.Var(initialize=3)
-    m.y = pe.Var(initialize=-2)
-    m.c = pe.Constraint(expr=m.x ** 2 + 2 * m.y ** 2 <= 1)
-    m.obj = pe.Objective(expr=(m.x - 3) ** 2 + m.x * m.y)
+    m = ellipse_model()
     res = solve(m, max_wall_time=0.0)
     assert res.solver.termination_condition == TerminationCondition.maxTimeLimit
     assert res.solver.iterations == 0
