@@ -19,7 +19,16 @@ Families (each varies what users vary; mu from 0.3 to 1.0):
   course of a wall (only those loads are multiplied);
 * ``multileaf``: the cross-section of a multi-leaf wall (two or three leaves of stacked
   stones, a through-stone across the leaves every few courses, continuous collar joints
-  between), loaded out of its plane by a horizontal load equal to the weight.
+  between), loaded out of its plane by a horizontal load equal to the weight;
+* ``stones``: panels of irregular convex stones (centroidal Voronoi cells,
+  :func:`lamodel.geometry.stone_wall`), several seeds and sizes, mu 0.5 to 0.8;
+* ``friction``: running-bond walls at the frictions between the others' (0.5, 0.75, 0.8);
+* ``direction``: running-bond walls loaded toward -x, and along +x inclined 30 degrees
+  up and down;
+* ``buttress``: a running-bond wall with a buttress of stacked long blocks at one end,
+  loaded toward it and away from it;
+* ``order``: one wall written in other orders (blocks shuffled, the ground first, ids
+  renamed): the same structure, whose certificate must not depend on how it is written.
 
 Each case runs the default search (``lamodel solve`` with no options: its own stopping
 rule) in its own process; with ``--all-below B`` (default 40 blocks in --quick, 0
@@ -109,6 +118,42 @@ def _wall_point(courses, blocks, mu, name):
     return spec
 
 
+def _stones(n, seed, mu, name):
+    from lamodel.geometry import stone_wall
+    width = 2.0 * np.sqrt(n / 10.0)  # stones of about the same size whatever their number
+    return stone_wall(n, width=width, height=width / 2, seed=seed, mu=mu, name=name)
+
+
+def _directed(courses, blocks, mu, degrees, sign, name):
+    spec = _wall(courses, blocks, mu, name=name)
+    a = np.radians(degrees)
+    spec["live_load"] = [float(sign * np.cos(a)), float(np.sin(a))]
+    return spec
+
+
+def _buttress(courses, blocks, mu, sign, name):
+    """A running-bond wall whose right end is a buttress two blocks long, one per course."""
+    from lamodel.geometry import running_bond_wall
+    rows = [r + [2] if r[-1] == 1 else r[:-1] + [2.5] for r in _bond_rows(courses, blocks)]
+    return running_bond_wall(rows, mu=mu, live_load=(float(sign), 0.0), name=name)
+
+
+def _reordered(courses, blocks, mu, how, name):
+    """The same wall written another way: ``shuffled`` blocks, the ``ground-first``, or
+    ``renamed`` ids (the order kept)."""
+    spec = _wall(courses, blocks, mu, name=name)
+    rng = np.random.default_rng(courses * 1000 + blocks)
+    bodies = spec["blocks"]
+    if how == "shuffled":
+        spec["blocks"] = [bodies[i] for i in rng.permutation(len(bodies))]
+    elif how == "ground-first":
+        spec["blocks"] = bodies[-1:] + bodies[:-1]
+    elif how == "renamed":
+        for k, b in zip(rng.permutation(len(bodies)), bodies):
+            b["id"] = f"{'support' if b.get('support') else 'stone'}-{k:05d}"
+    return spec
+
+
 def cases(quick: bool):
     """(family, case name, JSON-spec builder) for every case."""
     out = []
@@ -143,6 +188,28 @@ def cases(quick: bool):
             for mu in (0.3, 0.5, 0.9):
                 name = f"{fam}_t{t:g}_mu{mu:g}"
                 out.append((fam, name, lambda t=t, mu=mu, name=name, build=build: build(t, mu, name)))
+    stones = [(40, 0), (40, 1), (80, 2)] if quick else [(40, 0), (80, 1), (160, 2), (160, 3), (320, 4)]
+    for n, seed in stones:
+        for mu in (0.5, 0.65, 0.8):
+            name = f"stones{n}_s{seed}_mu{mu:g}"
+            out.append(("stones", name, lambda n=n, seed=seed, mu=mu, name=name: _stones(n, seed, mu, name)))
+    for c, b in sizes["bond"][:2 if quick else 3]:
+        for mu in (0.5, 0.75, 0.8):
+            name = f"friction{c}x{b}_mu{mu:g}"
+            out.append(("friction", name, lambda c=c, b=b, mu=mu, name=name: _wall(c, b, mu, name=name)))
+        for degrees, sign, word in ((0, -1, "minus_x"), (30, 1, "up30"), (-30, 1, "down30")):
+            for mu in (0.65, 0.9):
+                name = f"direction{c}x{b}_{word}_mu{mu:g}"
+                out.append(("direction", name, lambda c=c, b=b, mu=mu, d=degrees, sg=sign, name=name:
+                            _directed(c, b, mu, d, sg, name)))
+        for sign, word in ((1, "toward"), (-1, "away")):
+            name = f"buttress{c}x{b}_{word}_mu0.65"
+            out.append(("buttress", name, lambda c=c, b=b, sg=sign, name=name: _buttress(c, b, 0.65, sg, name)))
+    for c, b in ([(10, 10)] if quick else [(10, 10), (40, 25), (80, 25)]):
+        for mu in (0.65, 0.9):
+            for how in ("as-written", "shuffled", "ground-first", "renamed"):
+                name = f"order{c}x{b}_{how}_mu{mu:g}"
+                out.append(("order", name, lambda c=c, b=b, mu=mu, how=how, name=name: _reordered(c, b, mu, how, name)))
     for mu in (0.5, 0.9):
         name = f"point_arch_mu{mu:g}"
         out.append(("point", name, lambda mu=mu, name=name: _arch(1.0, mu, name, point=True)))
@@ -216,7 +283,8 @@ def summarise(df):
                          total_max=stable.process.max(), worst_gap=gap.max(),
                          best_lps_ratio_med=stable.best_lps_ratio.median(),
                          best_lps_ratio_max=stable.best_lps_ratio.max(),
-                         work_ratio_max=stable.work_ratio.max()))
+                         work_ratio_max=stable.work_ratio.max(),
+                         best_by=", ".join(f"{k} {v}" for k, v in stable.path[ok].value_counts().items())))
     return pd.DataFrame(rows)
 
 
@@ -225,9 +293,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="small sizes only")
     ap.add_argument("--families", default="", help="comma-separated families to run (default: all)")
-    ap.add_argument("--all-below", type=int, default=None,
-                    help="also run --method all on cases with at most this many blocks (default 40 with --quick, "
-                         "else 0)")
+    ap.add_argument("--all-below", type=int, default=300,
+                    help="also run --method all on cases with at most this many blocks (default 300; 0: never)")
     ap.add_argument("--timeout", type=float, default=900.0, help="seconds a case may take (whole process)")
     ap.add_argument("--total-work", type=float, default=None,
                     help="the driver's TOTAL_WORK for this run (default: lamodel.search.tuning's; inf: no bound), "
@@ -236,7 +303,7 @@ def main(argv=None):
     ap.add_argument("--write", metavar="DIR", help="write each case's structure file (CASE.json) to DIR, solve none "
                     "(then: lamodel solve DIR/CASE.json)")
     args = ap.parse_args(argv)
-    all_below = args.all_below if args.all_below is not None else (40 if args.quick else 0)
+    all_below = args.all_below
     wanted = set(filter(None, args.families.split(",")))
     from lamodel.io.files import atomic_write_text
     from lamodel.io.jsonspec import structure_from_json
