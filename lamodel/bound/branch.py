@@ -33,17 +33,10 @@ from fractions import Fraction
 import numpy as np
 
 from ..search.options import Deadline
+from ..search.tuning import BOUND_ROUND_TOL, CANDIDATE_FLOW, SCREEN_LPS, SCREEN_MIN, SCREEN_TOL
 from .exact import ExactData, floor_float
 from .lps import BoundLPs
 
-#: a cohesion's flow below this fraction of the largest does not make it a candidate
-FLOW_TOL = 1e-7
-#: a round that raises a by less than this (relative) ends the node's rounds
-ROUND_TOL = 1e-12
-#: the screen (BranchAndBound._can_raise) runs before a round of more than SCREEN_MIN
-#: Nmin LPs, at most SCREEN_LPS cohesive LPs; it calls a round useless only when the
-#: cohesive LP at the screen's normal forces stays within SCREEN_TOL (relative to U) of a
-SCREEN_MIN, SCREEN_LPS, SCREEN_TOL = 4, 8, 1e-9
 
 
 class OutOfTime(Exception):
@@ -189,7 +182,7 @@ class BranchAndBound:
                 B, node.rate = self._cohesive(node)
                 if B > node.b:
                     return False
-                if B > node.a + ROUND_TOL * max(1.0, abs(node.a)):
+                if B > node.a + BOUND_ROUND_TOL * max(1.0, abs(node.a)):
                     node.a = B
                     node.fresh = set()
                     self.progress.rounds += 1
@@ -197,7 +190,7 @@ class BranchAndBound:
                     todo = set(range(self.nc))
                 else:
                     top = node.rate.max(initial=0.0)
-                    todo = {int(k) for k in np.flatnonzero(node.rate > FLOW_TOL * top)} if top > 0 else set()
+                    todo = {int(k) for k in np.flatnonzero(node.rate > CANDIDATE_FLOW * top)} if top > 0 else set()
                 todo -= node.fresh
                 if not todo:
                     if node.rate is None:
@@ -231,7 +224,7 @@ class BranchAndBound:
         minimises the ``-N`` of ``todo`` weighted by the node's mechanism. A decision, not a
         proof: the node keeps only what was proven."""
         rate = node.rate if node.rate is not None else np.ones(self.nc)
-        w = {int(k): float(max(rate[k], FLOW_TOL)) for k in todo}
+        w = {int(k): float(max(rate[k], CANDIDATE_FLOW)) for k in todo}
         self._check_time()
         ans = self.lps.normal_force(w, node.a, node.b, node.lo, node.hi, deadline=self.deadline)
         if ans.status != "optimal":
@@ -249,7 +242,7 @@ class BranchAndBound:
             if not top.value > node.a + SCREEN_TOL * max(1.0, abs(self.U)):
                 return False
             r = top.slide_rate
-            pending = [int(k) for k in np.flatnonzero(members & (r > FLOW_TOL * r.max(initial=0.0)))
+            pending = [int(k) for k in np.flatnonzero(members & (r > CANDIDATE_FLOW * r.max(initial=0.0)))
                        if k not in node.fresh]
             if not pending:
                 return True   # its sliding contacts are proven: the round decides
@@ -277,7 +270,7 @@ class BranchAndBound:
         B = pair_bound(self, node, i, j)
         if B > node.b:
             return "excluded"
-        if B > node.a + ROUND_TOL * max(1.0, abs(node.a)):
+        if B > node.a + BOUND_ROUND_TOL * max(1.0, abs(node.a)):
             node.a = B
             node.fresh = set()
             self.progress.rounds += 1

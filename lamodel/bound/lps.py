@@ -23,6 +23,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+import highspy
 import numpy as np
 import scipy.sparse as sp
 
@@ -34,8 +35,8 @@ from ..search.options import Deadline, Stopped
 from ..structure import Structure
 from .exact import weights
 
-#: HiGHS's basis status codes (highspy.HighsBasisStatus: kLower 0, kBasic 1, kUpper 2)
-_BASIC, _UPPER = 1, 2
+#: HiGHS's basis status codes of a basic column and of one at its upper bound
+_BASIC, _UPPER = int(highspy.HighsBasisStatus.kBasic), int(highspy.HighsBasisStatus.kUpper)
 
 
 @dataclass

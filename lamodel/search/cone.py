@@ -23,9 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..formulation.space import Formulation3D
-
-#: Clarabel's tolerances on the non-dimensional problem (its default is 1e-8).
-CONE_TOLERANCE = 1e-9
+from .tuning import CONE_TOLERANCE
 
 
 @dataclass

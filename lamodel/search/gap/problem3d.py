@@ -39,12 +39,9 @@ from ..certify3d import (CollapseState3D, align, mechanism_lp, passes, polish_me
 from ..cone import ConePrograms
 from ..options import Deadline
 from ..tuning import (ALIGN_CAP_ROWS, ALIGN_IPM_CAP, CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS,
-                      CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE, WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE)
+                      CONE_LP_FIRST_POINTS, MECHANISMS_REMEMBERED, STABLE_ALPHA_CONE, WORK_FLOOR_CONE,
+                      WORK_PER_BLOCK_CONE)
 from .program import Scoped
-
-#: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
-#: polishes to that optimum).
-_REMEMBERED = 16
 
 
 class ConeProblem(Scoped):
@@ -224,7 +221,7 @@ class ConeProblem(Scoped):
         if res is None:
             res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left(),
                                                dilatancy=dilatancy), "cohesive" if allowed is None else "cohesive-r")
-            self._solved = {key: res} | dict(list(self._solved.items())[:_REMEMBERED - 1])
+            self._solved = {key: res} | dict(list(self._solved.items())[:MECHANISMS_REMEMBERED - 1])
         if not res.ok:
             return res.status, np.nan, None, None, None
         if res.u is None:
@@ -232,11 +229,11 @@ class ConeProblem(Scoped):
         u = res.u
         if dilatancy > 0:
             u = u.copy()  # its own object: gap weights and flows look up its dilatancy by identity
-            self._dilatant = {id(u): (u, dilatancy)} | dict(list(self._dilatant.items())[-(_REMEMBERED - 1):])
+            self._dilatant = {id(u): (u, dilatancy)} | dict(list(self._dilatant.items())[-(MECHANISMS_REMEMBERED - 1):])
         xi = self.flows(u)
         if allowed is not None:
             xi[~np.asarray(allowed, bool)] = 0.0
-        self._mechanisms = {id(u): (u, c)} | dict(list(self._mechanisms.items())[-(_REMEMBERED - 1):])
+        self._mechanisms = {id(u): (u, c)} | dict(list(self._mechanisms.items())[-(MECHANISMS_REMEMBERED - 1):])
         return "optimal", res.alpha, res.x, u, xi
 
     # ---------------------------------------------------------------- certification
