@@ -9,6 +9,7 @@ statics, :mod:`.exact` checks every one in exact arithmetic on the user's data.
 """
 from __future__ import annotations
 
+import logging
 import math
 import time
 from dataclasses import dataclass
@@ -17,6 +18,8 @@ from ..search.tuning import (BOUND_FLOOR_SECONDS, BOUND_FLOOR_SECONDS_3D, BOUND_
                              MAX_LPS_3D, PROVEN_TOL)
 from ..structure import Structure
 from ..structure3d import Structure3D
+
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -107,6 +110,8 @@ def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: 
     proven = proves(L, alpha_upper)
     check = "none" if L <= 0 else ("lowered" if p.checks_failed else "passed")
     complete = proven or not open_nodes or not bb.out_of_budget
+    log.info("lower bound %.6f%s (%d LPs, %d nodes, %.2f s)", L, ", the global minimum" if proven else "", p.lps,
+             p.nodes, time.perf_counter() - t0)
     return LowerBound(alpha_lower=float(L), alpha_upper=float(alpha_upper), proven_global=bool(proven),
                       rounds=p.rounds, intervals=p.alpha_splits + 1, nodes=p.nodes, excluded=p.excluded,
                       lps=p.lps, time=time.perf_counter() - t0, exact_check=check,

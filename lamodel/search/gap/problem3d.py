@@ -27,6 +27,7 @@ No warm bases: an interior-point program starts cold (``lps`` is empty).
 """
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -43,6 +44,8 @@ from ..tuning import (ALIGN_CAP_ROWS, ALIGN_IPM_CAP, CONE_ACTIVE, CONE_DIRECTION
                       WORK_PER_BLOCK_CONE)
 from .program import Scoped
 
+log = logging.getLogger(__name__)
+
 
 class ConeProblem(Scoped):
     """The cone programs of one 3D structure, scaled (see the module doc)."""
@@ -51,12 +54,10 @@ class ConeProblem(Scoped):
     polish = False
     stable_alpha = STABLE_ALPHA_CONE
 
-    def __init__(self, structure: Structure3D, deadline: Deadline | None = None, verbose: int = 0,
-                 threads: int = 1):
+    def __init__(self, structure: Structure3D, deadline: Deadline | None = None, threads: int = 1):
         self.t0 = time.perf_counter()
         self.user = structure
         self.deadline = deadline or Deadline()
-        self.verbose = verbose
         self.F, self.L = scales(structure)
         self.form = Formulation3D.of(scaled(structure, self.F, self.L))
         self.user_form = Formulation3D.of(structure)
@@ -116,9 +117,8 @@ class ConeProblem(Scoped):
 
     def _ran(self, res, name):
         """A program's result; Stopped if the deadline fired during it."""
-        if self.verbose > 1:
-            print(f"{self.elapsed():8.2f} {name}: {res.status} alpha {res.alpha:.7f} ({res.seconds:.2f} s, "
-                  f"{res.iterations} iterations)", flush=True)
+        log.debug("%8.2f %s: %s alpha %.7f (%.2f s, %d iterations)", self.elapsed(), name, res.status, res.alpha,
+                  res.seconds, res.iterations)
         if not res.ok and res.status not in ("infeasible", "unbounded"):
             self.deadline.check()
         return res
@@ -312,9 +312,8 @@ class ConeProblem(Scoped):
                         cap_rows=ALIGN_CAP_ROWS, tally=tally)
         finally:
             self.n_lp += len(steps)
-        if self.verbose > 1:
-            print(f"{self.elapsed():8.2f} align: {'aligned' if got is not None else 'none'} after {len(steps)} LPs "
-                  f"(work {sum(steps):.2e})", flush=True)
+        log.debug("%8.2f align: %s after %d LPs (work %.2e)", self.elapsed(), "aligned" if got is not None else "none",
+                  len(steps), sum(steps))
         moved = None if got is None else project_mechanism(self.form, got[1], ~(opening | sliding), sliding)
         if moved is None:
             return

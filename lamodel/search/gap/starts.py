@@ -21,6 +21,7 @@ seed's chain from the stall (:mod:`.fallback`).
 """
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -36,6 +37,16 @@ from .fallback import fallback
 from .program import GapProgram
 from .record import Record
 from .side_by_side import alongside, side_by_side
+
+log = logging.getLogger(__name__)
+
+
+def _log_lanes(lanes, outcomes):
+    """Each lane's least certified alpha and its LP solves (None: not counted here)."""
+    for names, (_, states, lps, _) in zip(lanes, outcomes):
+        least = min((st.alpha for st in states if st is not None), default=None)
+        found = "no new certified state" if least is None else f"least certified alpha {least:.6f}"
+        log.info("lane [%s]: %s%s", ", ".join(names), found, "" if lps is None else f", {lps} LP solves")
 
 
 def _least(best, st):
@@ -190,11 +201,14 @@ class Starts:
         snap = self.snapshot()
         real = real or p.deadline  # the search's deadline (the dilatancy lane's work bound is its own)
         calls = [("starts_pure", (snap, [("dilatancy", (x_assoc,))], None, left, real))]
+        log.info("nothing certified by the alternation: lanes [rescue, from zero, fixed point] beside [dilatancy]")
         try:
             outcomes = alongside(here, self.new_engine, calls, workers, running=self._running)
         finally:
             self.record.phase("first certificate", t)
         mine = self.record.best
+        _log_lanes([["chains"]], [(None, [mine] if mine is not None else [], None, None)])
+        _log_lanes([["dilatancy"]], outcomes)
         for _, states, n, learned in outcomes:
             self.merge(states, n, learned)
         there = min(outcomes[0][1], key=lambda st: st.alpha, default=None)
@@ -284,10 +298,12 @@ class Starts:
         lps = None if self.work_limit is None else max(0, self.work_limit - p.n_lps()) // k
         work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
         calls = [("starts_pure", (snap, lane, lps, work, p.deadline)) for lane in lanes]
+        log.info("%s: lanes %s", phase, " beside ".join(f"[{', '.join(name for name, *_ in lane)}]" for lane in lanes))
         try:
             outcomes = side_by_side(self.new_engine, calls, workers, running=self._running)
         finally:
             self.record.phase(phase, t)
+        _log_lanes([[name for name, *_ in lane] for lane in lanes], outcomes)
         for _, states, n, learned in outcomes:
             self.merge(states, n, learned)
         if any(stopped for stopped, *_ in outcomes) and p.deadline.expired():
@@ -488,9 +504,8 @@ class Starts:
             if relax == 1.0 and best is None and step >= FALLBACK_PATIENCE:
                 relax, seen = CHAIN_RELAXATION, []  # not converging: averaged from here
             status, a_k, xc, u, xi = p.mechanism(c)
-            if p.verbose > 1:
-                print(f"{p.elapsed():8.2f}   chain {source} step {step}: {status} alpha_K {a_k:.7f} relax {relax:g}",
-                      flush=True)
+            log.debug("%8.2f   chain %s step %d: %s alpha_K %.7f relax %g", p.elapsed(), source, step, status, a_k,
+                      relax)
             if status != "optimal":
                 break
             st = self.certifier.certify(u, xi, source)
