@@ -33,7 +33,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..search.options import Deadline
-from ..search.tuning import BOUND_ROUND_TOL, CANDIDATE_FLOW, SCREEN_LPS, SCREEN_MIN, SCREEN_TOL
+from ..search.tuning import ALPHA_SPLIT, BOUND_ROUND_TOL, CANDIDATE_FLOW, PROVEN_TOL, SCREEN_LPS, SCREEN_MIN, SCREEN_TOL
 from .exact import ExactData, floor_float
 from .lps import BoundLPs
 
@@ -78,7 +78,7 @@ class Progress:
 class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
-    def __init__(self, structure, upper: float, deadline: Deadline, alpha_split=8, tol=None, max_nodes=None,
+    def __init__(self, structure, upper: float, deadline: Deadline, alpha_split=ALPHA_SPLIT, tol=None, max_nodes=None,
                  pairs="none", max_lps=None, eager_root=False):
         self.s = structure
         self.U = float(upper)
@@ -91,7 +91,7 @@ class BranchAndBound:
         self.exact.opening_from(self.lps.opening_motion)
         self.mu = structure.mu
         self.nc = self.lps.nc  # contacts in the plane, contact points in space
-        self.tol = tol if tol is not None else 1e-6 * max(1.0, abs(self.U))
+        self.tol = tol if tol is not None else PROVEN_TOL * max(1.0, abs(self.U))
         self.alpha_split = alpha_split   # alpha-split while b - a > (U - a_root) / alpha_split
         self.progress = Progress()
         self.root_bound = None

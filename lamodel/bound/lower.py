@@ -14,8 +14,8 @@ import math
 import time
 from dataclasses import dataclass
 
-from ..search.tuning import (BOUND_FLOOR_SECONDS, BOUND_FLOOR_SECONDS_3D, BOUND_SHARE, LPS_PER_CONTACT, LPS_PER_POINT,
-                             MAX_LPS_3D, PROVEN_TOL)
+from ..search.tuning import (ALPHA_SPLIT, BOUND_FLOOR_SECONDS, BOUND_FLOOR_SECONDS_3D, BOUND_SECONDS, BOUND_SHARE,
+                             LPS_PER_CONTACT, LPS_PER_POINT, MAX_LPS_3D, PROVEN_TOL)
 from ..structure import Structure
 from ..structure3d import Structure3D
 
@@ -76,8 +76,8 @@ def default_seconds(search_seconds: float, structure) -> float:
     return max(floor, BOUND_SHARE * float(search_seconds))
 
 
-def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = 10.0,
-                alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
+def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = BOUND_SECONDS,
+                alpha_split: int = ALPHA_SPLIT, max_nodes: int | None = None, pairs: str = "none",
                 max_lps: int | None = None, eager_root: bool = False, deadline=None) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 

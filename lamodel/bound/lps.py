@@ -32,6 +32,7 @@ from ..formulation.scaling import scaled as _scaled
 from ..formulation.scaling import scales as _scales
 from ..search.highs import INF, HighsLP
 from ..search.options import Deadline, Stopped
+from ..search.tuning import BOUND_MARGIN
 from ..structure import Structure
 from .exact import weights
 
@@ -64,7 +65,7 @@ class BoundLPs:
     ``margin``: the relative shrink of the cohesions and half-lengths in the cohesive LP.
     """
 
-    def __init__(self, structure: Structure, margin: float = 1e-9):
+    def __init__(self, structure: Structure, margin: float = BOUND_MARGIN):
         self.structure = structure
         self.margin = margin
         self.n_solves = 0

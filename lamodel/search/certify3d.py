@@ -30,7 +30,8 @@ from threadpoolctl import threadpool_limits
 from ..formulation.space import Formulation3D
 from .highs import INF, HighsLP
 from .tuning import (ALIGN_DONE, ALIGN_FACETS, ALIGN_ROUND_OFF, ALIGN_STEPS, ALIGN_TURN, CONTACT_TOL, FAN, FAN_COST,
-                     FLOW_TOL, MECHANISM_POLISH_COLUMNS, PYRAMID_FACETS, RESIDUAL_TOLERANCE)
+                     FLOW_TOL, MECHANISM_POLISH_COLUMNS, POLISH_NEWTON_STEPS, PROJECTION_REFINEMENTS, PYRAMID_FACETS,
+                     RESIDUAL_TOLERANCE)
 
 MODES = ("stuck", "opening", "sliding")
 
@@ -187,7 +188,7 @@ def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     return u, form.strains(u)
 
 
-def project_mechanism(form: Formulation3D, u, stuck, sliding, refinements=4):
+def project_mechanism(form: Formulation3D, u, stuck, sliding, refinements=PROJECTION_REFINEMENTS):
     """The motion nearest to u with no motion at the ``stuck`` points, no opening at the
     ``sliding`` ones and ``fbar^T u = 1`` (C u = e), exact to round-off; None if there is
     none near u. Least squares ``(C^T C + eps I) d = C^T r`` with iterative refinement: one
@@ -226,7 +227,8 @@ def _null_space(C: np.ndarray) -> np.ndarray:
     return Vt[rank:].T
 
 
-def polish_mechanism(form: Formulation3D, u, stuck, sliding, c, max_columns=MECHANISM_POLISH_COLUMNS, steps=40):
+def polish_mechanism(form: Formulation3D, u, stuck, sliding, c, max_columns=MECHANISM_POLISH_COLUMNS,
+                     steps=POLISH_NEWTON_STEPS):
     """The mechanism of least ``alpha_K = -f0^T u + sum c ||slip||`` among those with the
     same stuck and sliding points (no motion, no opening) as the exact motion u, by Newton's
     method on the null space of those conditions (dense: the blocks u moves, at most

@@ -42,7 +42,7 @@ from urllib.parse import urlsplit
 import numpy as np
 
 from ..errors import InputError
-from .tuning import CONTEXTS_KEPT
+from .tuning import CONTEXTS_KEPT, SCHEDULER_TIMEOUT
 
 #: topic of the events tasks log on Dask workers when they start (attempts, worker)
 EVENT_TOPIC = "lamodel-task-start"
@@ -124,7 +124,7 @@ def task_seeds(seed, n: int) -> list:
     return root.spawn(n)
 
 
-def check_scheduler(address: str, timeout: float = 3.0) -> str:
+def check_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT) -> str:
     """A dask scheduler address ``tcp://HOST:PORT`` that answers a TCP connection now;
     InputError (one line) otherwise, at once rather than after Dask's long timeouts."""
     text = str(address).strip()

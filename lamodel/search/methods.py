@@ -41,7 +41,8 @@ import numpy as np
 from ..structure import Structure
 from .options import Deadline, SolveOptions
 from .state import CERTIFIED, FAILED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run, unstable_message
-from .tuning import (MPEC_LADDER, SEED_FEASIBILITY, SEED_GENERATIONS, SEED_LADDER, SEED_POP_SIZE, SLP_ALPHA0,
+from .tuning import (MPEC_LADDER, SEED_FEASIBILITY, SEED_GENE_MAX, SEED_GENERATIONS, SEED_LADDER, SEED_POP_SIZE,
+                     SEED_SPREAD, SLP_ALPHA0,
                      SLP_ALPHA_FACTOR, SLP_ALPHA_MIN, SLP_BETA, SLP_COHESION, SLP_MAX_ITERATIONS, SLP_TOLERANCE,
                      STABLE_ALPHA)
 
@@ -321,9 +322,9 @@ def seed_ga(structure, options, lps, assoc, t0, deadline=Deadline(), pop_size=SE
         return value
 
     rng = np.random.default_rng(options.seed)
-    initial = np.exp(rng.normal(0.0, 0.3, size=(pop_size, structure.n_contacts)))
+    initial = np.exp(rng.normal(0.0, SEED_SPREAD, size=(pop_size, structure.n_contacts)))
     initial[0] = 1.0  # the associative cohesions
-    genetic_search(fitness, structure.n_contacts, initial=initial, upper=3.0, pop_size=pop_size,
+    genetic_search(fitness, structure.n_contacts, initial=initial, upper=SEED_GENE_MAX, pop_size=pop_size,
                    generations=generations, seed=options.seed, out_of_time=deadline.expired)
     n = len(result.runs)
     if best["raw"] is None:
@@ -358,7 +359,8 @@ def successive_cone(engine, x, source="successive"):
     (:class:`lamodel.search.gap.GapSearch`): each step the cohesive program for
     capacities ``c = -mu N``, its mechanism certified by the engine's certifier (held
     statics, residual test). Returns (least certified state or None, last raw alpha)."""
-    from .tuning import SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS
+    from .tuning import (SUCCESSIVE_CONE_ALPHA_TOL, SUCCESSIVE_CONE_C_TOL, SUCCESSIVE_CONE_RELAXATION,
+                         SUCCESSIVE_CONE_STEPS)
     p = engine.problem
     best, raw, prev = None, np.nan, np.inf
     c = -p.mu * p.N_of(x)
@@ -372,8 +374,8 @@ def successive_cone(engine, x, source="successive"):
             best = st
         c_new = -p.mu * p.cohesive_N(xc)
         # converged: the capacities reproduce themselves, or alpha no longer moves
-        if np.abs(c_new - c).max() <= 1e-7 * max(np.abs(c).max(), 1e-300) or \
-                abs(raw - prev) <= 1e-8 * max(1.0, abs(raw)):
+        if np.abs(c_new - c).max() <= SUCCESSIVE_CONE_C_TOL * max(np.abs(c).max(), 1e-300) or \
+                abs(raw - prev) <= SUCCESSIVE_CONE_ALPHA_TOL * max(1.0, abs(raw)):
             break
         prev = raw
         c = (1 - SUCCESSIVE_CONE_RELAXATION) * c + SUCCESSIVE_CONE_RELAXATION * c_new

@@ -158,6 +158,8 @@ BLAS_THREADS = 1
 EVALUATION_SLICE = 0.1
 #: Contexts (one structure's prepared data) a worker process keeps: a few structures at a time.
 CONTEXTS_KEPT = 4
+#: Seconds a Dask scheduler has to answer a TCP connection before --scheduler is refused.
+SCHEDULER_TIMEOUT = 3.0
 #: Seconds between two redraws of the progress line (a display rate, nothing depends on it).
 PROGRESS_REFRESH = 0.5
 #: Ipopt starts when --starts is not given.
@@ -192,8 +194,9 @@ IPOPT_WARM_OPTIONS = {"warm_start_init_point": "yes", "warm_start_bound_push": 1
 IPOPT_ITERATIONS, IPOPT_SECONDS_1020, IPOPT_GROWTH = 250, 2.4, 1.8
 
 # ================================================== in space (search/gap/problem3d.py)
-#: Clarabel's tolerances on the non-dimensional problem (its default is 1e-8).
-CONE_TOLERANCE = 1e-9
+#: Clarabel's tolerances on the non-dimensional problem (its default is 1e-8), and its
+#: tolerance on the ratio kappa / tau that decides infeasibility.
+CONE_TOLERANCE, CONE_KTRATIO = 1e-9, 1e-8
 #: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
 #: polishes to that optimum).
 MECHANISMS_REMEMBERED = 16
@@ -215,6 +218,9 @@ CONE_DIRECTION_DECIMALS = 6
 #: Successive cone programming (Portioli et al.; Wang & Beyer): the friction capacities
 #: c = -mu N of the previous normal forces, relaxed by this, at most this many programs.
 SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS = 0.5, 10
+#: ... converged where the capacities reproduce themselves to SUCCESSIVE_CONE_C_TOL of the
+#: largest, or alpha moves by less than SUCCESSIVE_CONE_ALPHA_TOL (times max(1, alpha)).
+SUCCESSIVE_CONE_C_TOL, SUCCESSIVE_CONE_ALPHA_TOL = 1e-7, 1e-8
 #: In space a row counts as held (``ConeProblem.active_rows``) within this fraction of the
 #: statics' largest entry whatever tighter tolerance is asked: an interior-point statics
 #: holds its active rows to ~1e-8 only.
@@ -245,6 +251,9 @@ MECHANISM_POLISH_COLUMNS = 900
 ALIGN_FACETS, ALIGN_STEPS, ALIGN_TURN, ALIGN_DONE = 16, 8, 1e-2, 1e-13
 #: Coefficients of the alignment LP below this are round-off (the problem is non-dimensional).
 ALIGN_ROUND_OFF = 1e-15
+#: Iterative refinements of a mechanism's projection (certify3d.project_mechanism), and
+#: Newton steps of its polish (certify3d.polish_mechanism): safety bounds.
+PROJECTION_REFINEMENTS, POLISH_NEWTON_STEPS = 4, 40
 
 # ======================================== the published methods (search/methods.py)
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
@@ -270,10 +279,21 @@ SEED_LADDER = (0.0,)
 #: seed: an Ipopt point whose largest residual exceeds this is infeasible for eq. (5): its
 #: fitness is penalised (the GA needs a number for every individual)
 SEED_FEASIBILITY = 1e-5
+#: seed: the GA's genes multiply the associative cohesions, within [0, SEED_GENE_MAX]; the
+#: first population's are log-normal with this SEED_SPREAD about 1
+SEED_GENE_MAX, SEED_SPREAD = 3.0, 0.3
+#: the certification's own descent (certify.descend): at most this many LP pairs
+CERTIFY_DESCENT_STEPS = 50
 
 # ====================================================== the lower bound (lamodel/bound/)
 #: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
 PROVEN_TOL = 1e-6
+#: lower_bound's seconds when none are given (the Python call; the command line's are
+#: --prove's), and its alpha-splits: while b - a > (U - a_root) / ALPHA_SPLIT
+BOUND_SECONDS, ALPHA_SPLIT = 10.0, 8
+#: the relative shrink of the cohesions and half-lengths in the bound's cohesive LP (room
+#: for the exact rebuild)
+BOUND_MARGIN = 1e-9
 #: The default bound, the root's rounds to their fixed point, is guarded by at most
 #: LPS_PER_CONTACT LPs per contact (counted: the same on any machine) and BOUND_SHARE of the
 #: search's own seconds, at least BOUND_FLOOR_SECONDS: a quarter of the search's cost at most.
