@@ -151,7 +151,7 @@ WORK_PER_BLOCK = 4.0e5
 #: lane with what the alternation left of it: twice the most measured when it was set.
 FIRST_WORK = 8.0
 #: BLAS threads while the search runs (numpy's dot products of its LP-sized vectors): more
-#: threads spin between products and cost CPU for no time, and one thread makes those sums
+#: threads spin between products and cost CPU but save no time, and one thread makes those sums
 #: the same on any machine.
 BLAS_THREADS = 1
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
