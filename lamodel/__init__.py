@@ -17,10 +17,15 @@ results or comparing them starts quickly. ``SolverFactory('lamodel_ipopt')`` (De
 libipopt through cyipopt) is registered by :mod:`lamodel.solvers.bridge`, which the Pyomo
 model imports, and at ``import lamodel`` when Pyomo is already loaded.
 """
+import logging
 import sys
 from importlib import import_module
 
 from .errors import InputError, SolverError  # noqa: F401
+
+# The search logs to "lamodel" (phases and lanes at INFO, each step at DEBUG); the library
+# adds no handler but this one, so an application's own logging set-up decides what shows.
+logging.getLogger("lamodel").addHandler(logging.NullHandler())
 
 __version__ = "0.3.0"
 

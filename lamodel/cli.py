@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from contextlib import contextmanager
 
 from .arguments import SEED, rolling_arguments, seconds, tolerance, whole
 from .io.options3d import add_input_arguments, check_build_options, input_options  # argparse only: light
@@ -27,6 +28,30 @@ class _Parser(argparse.ArgumentParser):
 
 def _say(line):
     print(line, flush=True)
+
+
+@contextmanager
+def _log_to_stderr(verbose: int):
+    """``--verbose``: the "lamodel" log on stderr, at INFO (phases, lanes, results) or, given
+    twice, DEBUG (every step); written above the progress line, which stays."""
+    if not verbose:
+        yield
+        return
+    import logging
+
+    from tqdm.contrib.logging import logging_redirect_tqdm
+    log = logging.getLogger("lamodel")
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(message)s", "%H:%M:%S"))
+    level = log.level
+    log.addHandler(handler)
+    log.setLevel(logging.DEBUG if verbose > 1 else logging.INFO)
+    try:
+        with logging_redirect_tqdm([log]):
+            yield
+    finally:
+        log.removeHandler(handler)
+        log.setLevel(level)
 
 
 def _where(p, workers_help, scheduler_help):
@@ -64,6 +89,8 @@ def _solve_arguments(p):
     a("--plot", help="mechanism picture (.png, .svg, .pdf, ...; default <out>/mechanism.png)")
     a("--no-plot", action="store_true", help="draw no picture")
     a("--quiet", action="store_true", help="print only the one-line result (warnings and errors still go to stderr)")
+    a("-v", "--verbose", action="count", default=0, help="log the search on stderr: its phases, lanes and what each "
+      "certified; twice (-vv): every step and LP solve too")
     a("--report", metavar="FILE.html", help="write one self-contained HTML report")
     a("--animate", metavar="FILE.gif", help="write a GIF of the mechanism growing from rest")
     a("--prove", type=seconds, metavar="SECONDS", help="seconds for the proven lower bound alpha_lower in summary.csv")
@@ -83,7 +110,7 @@ def _solve(args, prog) -> int:
                            generations=args.generations or SolveOptions.generations, solver=args.solver,
                            progress=not args.quiet, scheduler=args.scheduler)
     # the search's BLAS_THREADS for the whole command (the lower bound beside it and after it too)
-    with threadpool_limits(BLAS_THREADS, user_api="blas"):
+    with threadpool_limits(BLAS_THREADS, user_api="blas"), _log_to_stderr(args.verbose):
         a = analyse(args.instance, options, args.out, method=args.method, seed_ga=(args.pop_size, args.generations),
                     picture=False if args.no_plot else (args.plot or True), report=args.report, animate=args.animate,
                     rolling=args.rolling, axles=args.axles, positions=args.positions, echo=None if args.quiet else _say,

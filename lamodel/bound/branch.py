@@ -33,19 +33,12 @@ from fractions import Fraction
 import numpy as np
 
 from ..search.options import Deadline
+from ..search.tuning import ALPHA_SPLIT, BOUND_ROUND_TOL, CANDIDATE_FLOW, PROVEN_TOL, SCREEN_LPS, SCREEN_MIN, SCREEN_TOL
 from .exact import ExactData, floor_float
 from .lps import BoundLPs
 from .plane import pair_bound
 from .space import BoundLPs3D, ExactData3D
 
-#: a cohesion's flow below this fraction of the largest does not make it a candidate
-FLOW_TOL = 1e-7
-#: a round that raises a by less than this (relative) ends the node's rounds
-ROUND_TOL = 1e-12
-#: the screen (BranchAndBound._can_raise) runs before a round of more than SCREEN_MIN
-#: Nmin LPs, at most SCREEN_LPS cohesive LPs; it calls a round useless only when the
-#: cohesive LP at the screen's normal forces stays within SCREEN_TOL (relative to U) of a
-SCREEN_MIN, SCREEN_LPS, SCREEN_TOL = 4, 8, 1e-9
 
 
 class OutOfTime(Exception):
@@ -87,7 +80,7 @@ class Progress:
 class BranchAndBound:
     """The lower-bound search on one structure with an upper bound U."""
 
-    def __init__(self, structure, upper: float, deadline: Deadline, alpha_split=8, tol=None, max_nodes=None,
+    def __init__(self, structure, upper: float, deadline: Deadline, alpha_split=ALPHA_SPLIT, tol=None, max_nodes=None,
                  pairs="none", max_lps=None, eager_root=False):
         self.s = structure
         self.U = float(upper)
@@ -99,7 +92,7 @@ class BranchAndBound:
         self.exact.opening_from(self.lps.opening_motion)
         self.mu = structure.mu
         self.nc = self.lps.nc  # contacts in the plane, contact points in space
-        self.tol = tol if tol is not None else 1e-6 * max(1.0, abs(self.U))
+        self.tol = tol if tol is not None else PROVEN_TOL * max(1.0, abs(self.U))
         self.alpha_split = alpha_split   # alpha-split while b - a > (U - a_root) / alpha_split
         self.progress = Progress()
         self.root_bound = None
@@ -190,7 +183,7 @@ class BranchAndBound:
                 B, node.rate = self._cohesive(node)
                 if B > node.b:
                     return False
-                if B > node.a + ROUND_TOL * max(1.0, abs(node.a)):
+                if B > node.a + BOUND_ROUND_TOL * max(1.0, abs(node.a)):
                     node.a = B
                     node.fresh = set()
                     self.progress.rounds += 1
@@ -198,7 +191,7 @@ class BranchAndBound:
                     todo = set(range(self.nc))
                 else:
                     top = node.rate.max(initial=0.0)
-                    todo = {int(k) for k in np.flatnonzero(node.rate > FLOW_TOL * top)} if top > 0 else set()
+                    todo = {int(k) for k in np.flatnonzero(node.rate > CANDIDATE_FLOW * top)} if top > 0 else set()
                 todo -= node.fresh
                 if not todo:
                     if node.rate is None:
@@ -232,7 +225,7 @@ class BranchAndBound:
         minimises the ``-N`` of ``todo`` weighted by the node's mechanism. A decision, not a
         proof: the node keeps only what was proven."""
         rate = node.rate if node.rate is not None else np.ones(self.nc)
-        w = {int(k): float(max(rate[k], FLOW_TOL)) for k in todo}
+        w = {int(k): float(max(rate[k], CANDIDATE_FLOW)) for k in todo}
         self._check_time()
         ans = self.lps.normal_force(w, node.a, node.b, node.lo, node.hi, deadline=self.deadline)
         if ans.status != "optimal":
@@ -250,7 +243,7 @@ class BranchAndBound:
             if not top.value > node.a + SCREEN_TOL * max(1.0, abs(self.U)):
                 return False
             r = top.slide_rate
-            pending = [int(k) for k in np.flatnonzero(members & (r > FLOW_TOL * r.max(initial=0.0)))
+            pending = [int(k) for k in np.flatnonzero(members & (r > CANDIDATE_FLOW * r.max(initial=0.0)))
                        if k not in node.fresh]
             if not pending:
                 return True   # its sliding contacts are proven: the round decides
@@ -277,7 +270,7 @@ class BranchAndBound:
         B = pair_bound(self, node, i, j)
         if B > node.b:
             return "excluded"
-        if B > node.a + ROUND_TOL * max(1.0, abs(node.a)):
+        if B > node.a + BOUND_ROUND_TOL * max(1.0, abs(node.a)):
             node.a = B
             node.fresh = set()
             self.progress.rounds += 1

@@ -9,38 +9,19 @@ statics, :mod:`.exact` checks every one in exact arithmetic on the user's data.
 """
 from __future__ import annotations
 
+import logging
 import math
 import time
 from dataclasses import dataclass
 
 from ..search.options import Deadline
+from ..search.tuning import (ALPHA_SPLIT, BOUND_FLOOR_SECONDS, BOUND_FLOOR_SECONDS_3D, BOUND_SECONDS, BOUND_SHARE,
+                             LPS_PER_CONTACT, LPS_PER_POINT, MAX_LPS_3D, PROVEN_TOL)
 from ..structure import Structure
 from ..structure3d import Structure3D
 from .branch import BranchAndBound  # at load time: the bound runs in a thread beside the search
 
-#: alpha - alpha_lower <= PROVEN_TOL * max(1, alpha): a proven global minimum
-PROVEN_TOL = 1e-6
-#: The default bound is the root's rounds to their fixed point: they end when a round
-#: raises nothing (each round: one cohesive LP, then one Nmin LP per contact its mechanism
-#: slides on; the screen of branch.py first). That proves the seed's arch, portal and
-#: portal_columns (119, 98, 95 LPs, 0.2-0.5 s of CPU) and costs 4 LPs on wall33 and 3 on
-#: wall55 (0.01-0.02 s, idle), where the branching proves nothing
-#: in 500 LPs nor in 48,000 (benchmarks/lower_bound.py; measured under load). The
-#: branching converges linearly (about 10^5 nodes for 1e-6 on a trilithon): it is what
-#: ``--prove`` buys. Guards: at most LPS_PER_CONTACT LPs per contact (counted, the same
-#: on any machine; the arches and portals take at most 8) and SHARE of the search's own
-#: seconds, at least FLOOR_SECONDS: on a 1,020-block running-bond wall the root's 50 Nmin
-#: LPs (0.5 s each) proved 0 in 28 s after a 75 s search (the screen now decides it in 3
-#: LPs, 2.8 s); the guard keeps the bound's cost a quarter of the search's at most, in
-#: the plane and in space.
-LPS_PER_CONTACT, FLOOR_SECONDS, SHARE = 16, 2.0, 0.25
-#: In space a block on three or more contact points can rest on any three of them, so at
-#: alpha = 0 every point's Nmin is 0 and the root proves nothing: the default branches, at
-#: most LPS_PER_POINT LPs per contact point and MAX_LPS_3D in all (counted: the same bound
-#: on any machine), with SHARE of the search's seconds, at least FLOOR_SECONDS_3D, as a
-#: guard. A block 1 x 0.5 x 2 on four points is proven at its 0.5 in 117 LPs (0.09 s); a
-#: 10-block panel (88 points) is left at 0 after 128 (0.3 s, the search 0.4 s).
-LPS_PER_POINT, MAX_LPS_3D, FLOOR_SECONDS_3D = 32, 128, 1.0
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -92,13 +73,13 @@ def default_counts(structure) -> dict:
 
 
 def default_seconds(search_seconds: float, structure) -> float:
-    """The default bound's time guard: SHARE of the search's seconds, at least the floor."""
-    floor = FLOOR_SECONDS_3D if getattr(structure, "dimension", 2) == 3 else FLOOR_SECONDS
-    return max(floor, SHARE * float(search_seconds))
+    """The default bound's time guard: BOUND_SHARE of the search's seconds, at least the floor."""
+    floor = BOUND_FLOOR_SECONDS_3D if getattr(structure, "dimension", 2) == 3 else BOUND_FLOOR_SECONDS
+    return max(floor, BOUND_SHARE * float(search_seconds))
 
 
-def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = 10.0,
-                alpha_split: int = 8, max_nodes: int | None = None, pairs: str = "none",
+def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: float = BOUND_SECONDS,
+                alpha_split: int = ALPHA_SPLIT, max_nodes: int | None = None, pairs: str = "none",
                 max_lps: int | None = None, eager_root: bool = False, deadline=None) -> LowerBound:
     """A proven lower bound on the least collapse multiplier of ``structure``.
 
@@ -129,6 +110,8 @@ def lower_bound(structure: Structure | Structure3D, alpha_upper: float, budget: 
     proven = proves(L, alpha_upper)
     check = "none" if L <= 0 else ("lowered" if p.checks_failed else "passed")
     complete = proven or not open_nodes or not bb.out_of_budget
+    log.info("lower bound %.6f%s (%d LPs, %d nodes, %.2f s)", L, ", the global minimum" if proven else "", p.lps,
+             p.nodes, time.perf_counter() - t0)
     return LowerBound(alpha_lower=float(L), alpha_upper=float(alpha_upper), proven_global=bool(proven),
                       rounds=p.rounds, intervals=p.alpha_splits + 1, nodes=p.nodes, excluded=p.excluded,
                       lps=p.lps, time=time.perf_counter() - t0, exact_check=check,

@@ -23,6 +23,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+import highspy
 import numpy as np
 import scipy.sparse as sp
 
@@ -31,11 +32,12 @@ from ..formulation.scaling import scaled as _scaled
 from ..formulation.scaling import scales as _scales
 from ..search.highs import INF, HighsLP
 from ..search.options import Deadline, Stopped
+from ..search.tuning import BOUND_MARGIN
 from ..structure import Structure
 from .exact import weights
 
-#: HiGHS's basis status codes (highspy.HighsBasisStatus: kLower 0, kBasic 1, kUpper 2)
-_BASIC, _UPPER = 1, 2
+#: HiGHS's basis status codes of a basic column and of one at its upper bound
+_BASIC, _UPPER = int(highspy.HighsBasisStatus.kBasic), int(highspy.HighsBasisStatus.kUpper)
 
 
 @dataclass
@@ -63,7 +65,7 @@ class BoundLPs:
     ``margin``: the relative shrink of the cohesions and half-lengths in the cohesive LP.
     """
 
-    def __init__(self, structure: Structure, margin: float = 1e-9):
+    def __init__(self, structure: Structure, margin: float = BOUND_MARGIN):
         self.structure = structure
         self.margin = margin
         self.n_solves = 0

@@ -14,7 +14,7 @@ because alpha_coh is nondecreasing (the other contacts stay at their minima) and
 (a concave function's minimum over a polyhedron that is closed upwards is at a vertex).
 Each vertex's alpha_coh is checked like every cohesive bound. Q is refined by cutting off
 its lowest vertex with the side through the two statics that support its sides, until
-that vertex lies (to 1e-9) in P or MAX_CUTS sides are added.
+that vertex lies (to 1e-9) in P or BOUND_MAX_CUTS sides are added.
 """
 from __future__ import annotations
 
@@ -23,10 +23,9 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..search.tuning import BOUND_MAX_CUTS
 from .exact import floor_float
 
-#: sides added to the polygon per call
-MAX_CUTS = 8
 
 
 def _vertices(planes):
@@ -86,7 +85,7 @@ def pair_bound(search, node, i, j) -> float:
         return values[v]
 
     planes = [((1.0, 0.0), Fraction(float(node.nmin[i])), None), ((0.0, 1.0), Fraction(float(node.nmin[j])), None)]
-    for _ in range(MAX_CUTS):
+    for _ in range(BOUND_MAX_CUTS):
         verts = _vertices(planes)
         low, (p, q) = min(((alpha_at(v), sides) for v, sides in verts), key=lambda t: t[0])
         v = next(v for v, sides in verts if sides == (p, q))

@@ -4,7 +4,7 @@ The same LPs as in the plane (:mod:`.lps`), on the contact points of a
 :class:`~lamodel.structure3d.Structure3D` (:mod:`lamodel.formulation.space`):
 
 * **Nmin LPs** over a *circumscribed* pyramid of each point's cone ``hypot(T1, T2) <= -mu N``:
-  generators ``(N, T) = (-1, mu w_i)`` at the vertices w_i of a regular PYRAMID-gon around
+  generators ``(N, T) = (-1, mu w_i)`` at the vertices w_i of a regular BOUND_PYRAMID-gon around
   the unit circle. The pyramid holds the cone, so its minimum is at most the cone's. The
   certificate (multipliers y of the equilibrium rows) is then checked against the cone
   itself: the dual bound uses the cone's support function ``mu |g_T|`` with ``|g_T|``
@@ -26,19 +26,16 @@ import scipy.sparse as sp
 
 from ..formulation.space import equilibrium_matrix, load_vectors, scaled, scales
 from ..search.highs import INF
+from ..search.tuning import BOUND_PYRAMID, ZONE_MARGIN, ZONES
 from ..structure3d import Structure3D
 from .exact import ExactData, _q, rebuild, weights
 from .lps import BoundLPs
 
-#: sides of the circumscribed pyramid of the Coulomb cone in the Nmin LPs
-PYRAMID = 8
-#: directions of the inscribed zonotope of the cohesive disk (a 16-gon: within 1.9 %)
-ZONES = 8
-#: half-length of each zonotope segment (radius 1 - 1e-7: room for the exact rebuild)
-BETA = math.sin(math.pi / (2 * ZONES)) * (1.0 - 1e-7)
+#: half-length of each zonotope segment (radius 1 - ZONE_MARGIN: room for the exact rebuild)
+BETA = math.sin(math.pi / (2 * ZONES)) * (1.0 - ZONE_MARGIN)
 
 
-def pyramid_vertices(m: int = PYRAMID) -> np.ndarray:
+def pyramid_vertices(m: int = BOUND_PYRAMID) -> np.ndarray:
     """(m, 2) vertices of a regular m-gon around the unit circle (its sides tangent to it,
     pushed out by 1e-9), one of them along t1."""
     r = (1.0 + 1e-9) / math.cos(math.pi / m)
@@ -81,7 +78,7 @@ class BoundLPs3D(BoundLPs):
         self.nc = s.n_points
         ss, A, f0, fb = self._scaled(scales, scaled, equilibrium_matrix, load_vectors, 3)
         self.d_shrunk = None
-        npt, m, k = self.nc, PYRAMID, ZONES
+        npt, m, k = self.nc, BOUND_PYRAMID, ZONES
         w = pyramid_vertices(m)
         # a generator per pyramid vertex; mu differs by point: the columns carry it
         G = sp.lil_matrix((3 * npt, m * npt))

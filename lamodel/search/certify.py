@@ -22,7 +22,8 @@ import numpy as np
 from ..formulation.scaling import block_sizes
 from .lp import LimitLPs
 from .state import CollapseState
-from .tuning import ACTIVE_TOLERANCES, FLOW_TOL, IMPROVEMENT, RESIDUAL_TOLERANCE, SIZE_RESOLUTION
+from .tuning import (ACTIVE_TOLERANCES, CERTIFY_DESCENT_STEPS, FLOW_TOL, IMPROVEMENT, RESIDUAL_TOLERANCE,
+                     SIZE_RESOLUTION)
 
 __all__ = ["ACTIVE_TOLERANCES", "RESIDUAL_TOLERANCE", "certify", "certify_flow", "descend", "force_scale",
            "residuals", "block_sizes", "unresolved_blocks", "SIZE_RESOLUTION"]
@@ -167,7 +168,7 @@ def certify(lps: LimitLPs, N, V, M, alpha=None, u=None, xi=None, source="", tole
     return best
 
 
-def descend(lps: LimitLPs, state: CollapseState, max_steps: int = 50,
+def descend(lps: LimitLPs, state: CollapseState, max_steps: int = CERTIFY_DESCENT_STEPS,
             tol: float = ACTIVE_TOLERANCES[0]) -> CollapseState:
     """Alternate the two certification LPs from a collapse state; alpha never increases.
 

@@ -29,23 +29,11 @@ from threadpoolctl import threadpool_limits
 
 from ..formulation.space import Formulation3D
 from .highs import INF, HighsLP
+from .tuning import (ALIGN_DONE, ALIGN_FACETS, ALIGN_ROUND_OFF, ALIGN_STEPS, ALIGN_TURN, CONTACT_TOL, FAN, FAN_COST,
+                     FLOW_TOL, MECHANISM_POLISH_COLUMNS, POLISH_NEWTON_STEPS, PROJECTION_REFINEMENTS, PYRAMID_FACETS,
+                     RESIDUAL_TOLERANCE)
 
-#: A certified state satisfies every condition to this accuracy (one dimension).
-RESIDUAL_TOLERANCE = 1e-7
-#: Facets of the pyramid inscribed in a stuck point's cone in the certification LP.
-PYRAMID_FACETS = 4
-#: HiGHS feasibility tolerance of the certification LPs (non-dimensional problem).
-LP_TOLERANCE = 1e-9
-#: Half-angle (rad) of the fan a sliding point's force (and slip) may take about its
-#: direction in the certification LPs, and the cost of leaving the fan's centre.
-FAN, FAN_COST = 1e-7, 1e-7
-#: Forces within this of zero (or of the cone) count as such when a mechanism is fitted.
-CONTACT_TOL = 1e-9
-#: Strains below this fraction of the largest motion are no motion (modes).
-FLOW_TOL = 1e-9
 MODES = ("stuck", "opening", "sliding")
-#: Largest number of block motions (6 a moving block) on which a mechanism is polished.
-POLISH_COLUMNS = 900
 
 
 @dataclass
@@ -204,7 +192,7 @@ def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     return u, form.strains(u)
 
 
-def project_mechanism(form: Formulation3D, u, stuck, sliding, refinements=4):
+def project_mechanism(form: Formulation3D, u, stuck, sliding, refinements=PROJECTION_REFINEMENTS):
     """The motion nearest to u with no motion at the ``stuck`` points, no opening at the
     ``sliding`` ones and ``fbar^T u = 1`` (C u = e), exact to round-off; None if there is
     none near u. Least squares ``(C^T C + eps I) d = C^T r`` with iterative refinement: one
@@ -243,7 +231,8 @@ def _null_space(C: np.ndarray) -> np.ndarray:
     return Vt[rank:].T
 
 
-def polish_mechanism(form: Formulation3D, u, stuck, sliding, c, max_columns=POLISH_COLUMNS, steps=40):
+def polish_mechanism(form: Formulation3D, u, stuck, sliding, c, max_columns=MECHANISM_POLISH_COLUMNS,
+                     steps=POLISH_NEWTON_STEPS):
     """The mechanism of least ``alpha_K = -f0^T u + sum c ||slip||`` among those with the
     same stuck and sliding points (no motion, no opening) as the exact motion u, by Newton's
     method on the null space of those conditions (dense: the blocks u moves, at most
@@ -332,13 +321,6 @@ def exact_state(form: Formulation3D, x, u=None, source="") -> CollapseState3D | 
         if tries == 0 and u is None:
             break
     return None
-
-
-#: Facets of the pyramid inscribed in a stuck point's cone in :func:`align`, its steps, the
-#: largest turn (rad) of a sliding direction in one step, and the turn below which it stops.
-ALIGN_FACETS, ALIGN_STEPS, ALIGN_TURN, ALIGN_DONE = 16, 8, 1e-2, 1e-13
-#: Coefficients of the alignment LP below this are round-off (the problem is non-dimensional).
-ALIGN_ROUND_OFF = 1e-15
 
 
 def lp_work(lp: HighsLP) -> float:

@@ -23,9 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..formulation.space import Formulation3D
-
-#: Clarabel's tolerances on the non-dimensional problem (its default is 1e-8).
-CONE_TOLERANCE = 1e-9
+from .tuning import CONE_KTRATIO, CONE_TOLERANCE
 
 
 @dataclass
@@ -86,7 +84,7 @@ class ConePrograms:
         settings.max_threads = self.threads
         for name in ("tol_gap_abs", "tol_gap_rel", "tol_feas", "tol_infeas_abs", "tol_infeas_rel"):
             setattr(settings, name, CONE_TOLERANCE)
-        settings.tol_ktratio = 1e-8
+        settings.tol_ktratio = CONE_KTRATIO
         if time_limit is not None:
             settings.time_limit = max(float(time_limit), 1e-3)
         P = sp.csc_matrix((self.nx, self.nx))

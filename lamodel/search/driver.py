@@ -46,6 +46,7 @@ Every tuned constant is in :mod:`.tuning`.
 """
 from __future__ import annotations
 
+import logging
 import math
 import threading
 import time
@@ -69,6 +70,8 @@ from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE
 from .tuning import (ACTIVE_TOLERANCES, BLAS_THREADS, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, FIRST_WORK,
                      IPOPT_GROWTH, IPOPT_ITERATIONS, IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE,
                      STALL_WORK, TOTAL_WORK, Z_INIT, Z_MAX)
+
+log = logging.getLogger(__name__)
 
 __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 
@@ -181,6 +184,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         message += " (the time limit stopped the search)"
     runs.sort(key=lambda r: r.start)
     best = record.best_user if record is not None and status in (CERTIFIED, INTERRUPTED) else None
+    found = f"alpha {best.alpha:.6f} ({path_of(best)})" if best is not None else message
+    log.info("%s: %s after %.2f s", status, found, time.perf_counter() - t0)
     return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
@@ -223,7 +228,8 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
         if on_associative is not None and kind == "ok":
             on_associative(alpha_assoc)
         progress.bound(alpha_assoc)
-        progress.phase("first certificate")
+        log.info("associative bound %.6f (%d LP solves)", alpha_assoc, engine.n_lps())
+        _phase(progress, "first certificate")
         if opt.time_limit is None:
             starts.first_bound = FIRST_WORK * engine.problem.work_bound()
         starts.first_certificate(x0, workers=opt.workers or _cores())
@@ -238,11 +244,11 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
             starts.work_limit = lp_cap = TOTAL_WORK * lps_first
             starts.work_bound = engine.problem.work_bound()
         if x0 is not None and np.isfinite(alpha_assoc):
-            progress.phase("continuation")
+            _phase(progress, "continuation")
             starts.continuations(x0, workers=opt.workers or _cores())
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
-        progress.phase("GA + LP")
+        _phase(progress, "GA + LP")
         _genetic_search(engine, opt, client, lps_first, lp_cap)
     except Stopped:
         if record.best is None:
@@ -250,6 +256,12 @@ def _search(engine, opt, progress, client=None, work=None, on_associative=None):
     if record.best is None:
         return _nothing_certified(engine, alpha_assoc, stopped=False)
     return CERTIFIED, "", alpha_assoc
+
+
+def _phase(progress, name):
+    """A phase begins: on the progress line and in the log."""
+    log.info("phase: %s", name)
+    progress.phase(name)
 
 
 def _genetic_search(engine, opt, client=None, lps_first=None, lp_cap=None):
@@ -424,7 +436,7 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
     for i in range(len(starts) + 1, n + 1):
         rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
                                          f"{'s' if len(starts) != 1 else ''} to start from")
-    progress.phase("Ipopt on eq. 5")
+    _phase(progress, "Ipopt on eq. 5")
     futures = {}
     for i, st in enumerate(starts, start=1):
         if deadline.left() < plan["estimate"] and deadline.at is not None:
@@ -451,6 +463,9 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
         rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
                       status="interrupted" if deadline.flag or (deadline.stop and deadline.stop()) else "time limit")
     runs.extend(rows[i] for i in sorted(rows))
+    for i in sorted(rows):
+        log.info("Ipopt start %d (%s): %s, certified alpha %.6f", i, rows[i].source, rows[i].status,
+                 rows[i].alpha_certified)
 
 
 def _certify_ipopt(engine, fut, i, st) -> Run:

@@ -42,6 +42,7 @@ from urllib.parse import urlsplit
 import numpy as np
 
 from ..errors import InputError
+from .tuning import CONTEXTS_KEPT, SCHEDULER_TIMEOUT
 
 #: topic of the events tasks log on Dask workers when they start (attempts, worker)
 EVENT_TOPIC = "lamodel-task-start"
@@ -68,7 +69,6 @@ class TaskResult:
 _CONTEXTS: dict = {}            # key -> prepare(shared), per worker process
 _SHARED: dict = {}              # key -> shared (local pools: installed once per process)
 _LOCK = threading.Lock()        # a Dask worker may run tasks in threads
-_KEEP = 4                       # contexts kept per worker (a few structures at a time)
 
 
 def _identity(x):
@@ -82,7 +82,7 @@ def context(key: str, shared, prepare: Callable | None):
             return _CONTEXTS[key]
     value = (prepare or _identity)(shared)
     with _LOCK:
-        while len(_CONTEXTS) >= _KEEP:
+        while len(_CONTEXTS) >= CONTEXTS_KEPT:
             _CONTEXTS.pop(next(iter(_CONTEXTS)))
         _CONTEXTS[key] = value
     return value
@@ -124,7 +124,7 @@ def task_seeds(seed, n: int) -> list:
     return root.spawn(n)
 
 
-def check_scheduler(address: str, timeout: float = 3.0) -> str:
+def check_scheduler(address: str, timeout: float = SCHEDULER_TIMEOUT) -> str:
     """A dask scheduler address ``tcp://HOST:PORT`` that answers a TCP connection now;
     InputError (one line) otherwise, at once rather than after Dask's long timeouts."""
     text = str(address).strip()

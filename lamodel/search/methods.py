@@ -41,36 +41,16 @@ import numpy as np
 from ..structure import Structure
 from .options import Deadline, SolveOptions
 from .state import CERTIFIED, FAILED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run, unstable_message
-from .tuning import STABLE_ALPHA
+from .tuning import (MPEC_LADDER, SEED_FEASIBILITY, SEED_GENE_MAX, SEED_GENERATIONS, SEED_LADDER, SEED_POP_SIZE,
+                     SEED_SPREAD, SLP_ALPHA0,
+                     SLP_ALPHA_FACTOR, SLP_ALPHA_MIN, SLP_BETA, SLP_COHESION, SLP_MAX_ITERATIONS, SLP_TOLERANCE,
+                     STABLE_ALPHA)
 
 #: the methods, in the order of ``methods.csv``
 METHODS = ("associative", "successive-lp", "mpec", "seed", "lamodel")
 #: what ``--method`` accepts
 CHOICES = METHODS + ("all",)
 
-#: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
-SLP_TOLERANCE = 1e-8
-#: successive LP: at most this many LPs after the associative one
-SLP_MAX_ITERATIONS = 300
-#: successive LP (Gilbert et al. 2006, parameters as in Wang & Beyer's implementation): the
-#: negative fictitious friction -a mu, a = SLP_ALPHA0 at the first LP, times SLP_ALPHA_FACTOR
-#: at each next one, down to SLP_ALPHA_MIN
-SLP_ALPHA0, SLP_ALPHA_FACTOR, SLP_ALPHA_MIN = 0.3, 0.5, 1e-3
-#: successive LP: the normal forces carried over are SLP_BETA N_k + (1 - SLP_BETA) N_{k-1}
-SLP_BETA = 0.6
-#: successive LP: the small cohesion c0, a fraction of the largest |N| of the associative LP
-SLP_COHESION = 1e-5
-#: MPEC: the relaxation rho (as a fraction of max(1, alpha)), divided by 10 from stage to
-#: stage as Ferris & Tin-Loi do, then 0 (eq. 5 exactly)
-MPEC_LADDER = (1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 0.0)
-#: seed: default GA budget (population, generations); each individual is one Ipopt solve
-SEED_POP_SIZE, SEED_GENERATIONS = 4, 2
-#: seed: the epsilon ladder of each individual's Ipopt solve of eq. (5) (fractions of
-#: max(1, alpha); the last stage is eq. 5 exactly)
-SEED_LADDER = (0.0,)
-#: seed: an Ipopt point whose largest residual exceeds this is infeasible for eq. (5): its
-#: fitness is penalised (the GA needs a number for every individual)
-SEED_FEASIBILITY = 1e-5
 
 
 @dataclass
@@ -342,9 +322,9 @@ def seed_ga(structure, options, lps, assoc, t0, deadline=Deadline(), pop_size=SE
         return value
 
     rng = np.random.default_rng(options.seed)
-    initial = np.exp(rng.normal(0.0, 0.3, size=(pop_size, structure.n_contacts)))
+    initial = np.exp(rng.normal(0.0, SEED_SPREAD, size=(pop_size, structure.n_contacts)))
     initial[0] = 1.0  # the associative cohesions
-    genetic_search(fitness, structure.n_contacts, initial=initial, upper=3.0, pop_size=pop_size,
+    genetic_search(fitness, structure.n_contacts, initial=initial, upper=SEED_GENE_MAX, pop_size=pop_size,
                    generations=generations, seed=options.seed, out_of_time=deadline.expired)
     n = len(result.runs)
     if best["raw"] is None:
@@ -379,7 +359,8 @@ def successive_cone(engine, x, source="successive"):
     (:class:`lamodel.search.gap.GapSearch`): each step the cohesive program for
     capacities ``c = -mu N``, its mechanism certified by the engine's certifier (held
     statics, residual test). Returns (least certified state or None, last raw alpha)."""
-    from .tuning import SUCCESSIVE_CONE_RELAXATION, SUCCESSIVE_CONE_STEPS
+    from .tuning import (SUCCESSIVE_CONE_ALPHA_TOL, SUCCESSIVE_CONE_C_TOL, SUCCESSIVE_CONE_RELAXATION,
+                         SUCCESSIVE_CONE_STEPS)
     p = engine.problem
     best, raw, prev = None, np.nan, np.inf
     c = -p.mu * p.N_of(x)
@@ -393,8 +374,8 @@ def successive_cone(engine, x, source="successive"):
             best = st
         c_new = -p.mu * p.cohesive_N(xc)
         # converged: the capacities reproduce themselves, or alpha no longer moves
-        if np.abs(c_new - c).max() <= 1e-7 * max(np.abs(c).max(), 1e-300) or \
-                abs(raw - prev) <= 1e-8 * max(1.0, abs(raw)):
+        if np.abs(c_new - c).max() <= SUCCESSIVE_CONE_C_TOL * max(np.abs(c).max(), 1e-300) or \
+                abs(raw - prev) <= SUCCESSIVE_CONE_ALPHA_TOL * max(1.0, abs(raw)):
             break
         prev = raw
         c = (1 - SUCCESSIVE_CONE_RELAXATION) * c + SUCCESSIVE_CONE_RELAXATION * c_new

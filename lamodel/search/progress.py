@@ -7,15 +7,14 @@ known after the first LP) and the best certified alpha so far. The budget is the
 time limit or, without one, the work bound that ends the phase under way
 (:meth:`lamodel.search.gap.starts.Starts.budget_share`): counted LP work, so the share is
 how far the default run is from its end, whatever the machine. The line is redrawn every
-REFRESH seconds by a thread of its own, also during a long LP.
+PROGRESS_REFRESH seconds by a thread of its own, also during a long LP.
 """
 from __future__ import annotations
 
 import threading
 import time
 
-#: Seconds between two redraws of the line (a display rate, nothing depends on it).
-REFRESH = 0.5
+from .tuning import PROGRESS_REFRESH
 
 
 class Progress:
@@ -78,7 +77,7 @@ class Progress:
         self.bar.refresh()
 
     def _redraw(self):
-        while not self._done.wait(REFRESH):
+        while not self._done.wait(PROGRESS_REFRESH):
             self._update()
 
     def close(self):

@@ -59,9 +59,8 @@ class GapSearch:
     search is unusable (its LPs are abandoned).
     """
 
-    def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None,
-                 verbose: int = 0):
-        self.problem = formulation_of(structure)(structure, deadline, verbose)
+    def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None):
+        self.problem = formulation_of(structure)(structure, deadline)
         self.record = Record(self.problem, on_certified)
         self.certifier = Certifier(self.problem, self.record)
         self.descent = Descent(self.problem, self.certifier, self.record)

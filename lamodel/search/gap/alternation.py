@@ -19,6 +19,7 @@ nothing is certified or held: that system's collapse states are not the real one
 """
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -30,6 +31,8 @@ from .certify import Certifier
 from .descent import Descent
 from .program import GapProgram
 from .record import Record
+
+log = logging.getLogger(__name__)
 
 
 class Alternation:
@@ -76,9 +79,8 @@ class Alternation:
                         # minimise alpha: x stays feasible (warm), alpha falls, and the next
                         # mechanism often flows only on tight rows (gap exactly 0: certified).
                         st_h, xh = p.statics(held=(xi > 0) & tight, cap=self.certifier.cap(), u=u)
-                        if p.verbose > 1:
-                            print(f"{p.elapsed():8.2f}   hold: alpha {alpha:.7f} gap {gap:.2e} slack flows "
-                                  f"{int(slack_flow.sum())} -> {st_h} {xh[-1] if xh is not None else ''}", flush=True)
+                        log.debug("%8.2f   hold: alpha %.7f gap %.2e slack flows %d -> %s %s", p.elapsed(), alpha,
+                                  gap, int(slack_flow.sum()), st_h, xh[-1] if xh is not None else "")
                         if st_h == "optimal" and xh[-1] < alpha - IMPROVEMENT * max(1.0, alpha):
                             x = xh  # (obj_prev kept: the rho ladder still ends on a stall)
                             continue
@@ -93,11 +95,10 @@ class Alternation:
                             slack_flow = (xi > 0) & ~tight
                             self._near(u, xi, tight, slack_flow, source, found)
                     step_gap = p.gap(x, xi, u)
-                    if p.verbose > 1:
+                    if log.isEnabledFor(logging.DEBUG):
                         rel = xi[slack_flow].max() / xi.max() if slack_flow.any() else 0.0
-                        print(f"{p.elapsed():8.2f}   t {dilatancy:g} rho {rho:g} alpha {alpha:.7f} gap {gap:.2e} "
-                              f"step gap {step_gap:.2e} slack flows {int(slack_flow.sum())} (max rel {rel:.1e})",
-                              flush=True)
+                        log.debug("%8.2f   t %g rho %g alpha %.7f gap %.2e step gap %.2e slack flows %d (max rel %.1e)",
+                                  p.elapsed(), dilatancy, rho, alpha, gap, step_gap, int(slack_flow.sum()), rel)
                     # With flows left on slack rows the certification's first LP (min gap of
                     # this mechanism, capped) decides whether a statics can hold them all.
                     if real and step_gap <= GAP_CERTIFY * max(1.0, alpha):
@@ -118,7 +119,7 @@ class Alternation:
                         break
                     x = xn
         finally:
-            self.record.phase("alternate", t)
+            self.record.phase("alternate", t, step=True)
         for st in found:
             if best is None or st.alpha < best.alpha:
                 best = st

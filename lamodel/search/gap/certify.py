@@ -9,9 +9,13 @@ candidate is then re-checked by the residual test (:meth:`~.program.GapProgram.s
 """
 from __future__ import annotations
 
+import logging
+
 from ..tuning import RESIDUAL_TOLERANCE
 from .program import CAPPED, GapProgram
 from .record import Record
+
+log = logging.getLogger(__name__)
 
 _CAPPED = object()  # a certification cut short by its iteration cap: not an answer to remember
 
@@ -67,9 +71,9 @@ class Certifier:
         p = self.problem
         state = p.state(x, u, xi, flow, source)
         if max(state.residual.values()) > RESIDUAL_TOLERANCE:
-            if p.verbose > 1:
+            if log.isEnabledFor(logging.DEBUG):
                 bad = {k: f"{v:.1e}" for k, v in state.residual.items() if v > RESIDUAL_TOLERANCE}
-                print(f"{p.elapsed():8.2f}   rejected alpha {state.alpha:.7f}: {bad}", flush=True)
+                log.debug("%8.2f   rejected alpha %.7f: %s", p.elapsed(), state.alpha, bad)
             return None
         state.lam = x  # kept for warm descents (not part of the user state)
         if self.record.on_state is not None:  # every certified state (scaled units), e.g. an archive

@@ -41,7 +41,7 @@ class Descent:
                 state = nxt
             self.cache[key] = self.cache[self.problem.pattern(start.u, start.flow)] = state
         finally:
-            self.record.phase("descend", t)
+            self.record.phase("descend", t, step=True)
         return state
 
     def _restricted_step(self, state):

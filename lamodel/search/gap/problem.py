@@ -19,6 +19,7 @@ the non-dimensional units.
 """
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -34,6 +35,8 @@ from ..options import Deadline
 from ..state import CollapseState
 from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LIGHT_BLOCK, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
 from .program import CAPPED, Scoped
+
+log = logging.getLogger(__name__)
 
 
 def state_residuals(form: Formulation, state: CollapseState) -> dict:
@@ -56,11 +59,10 @@ class ScaledProblem(Scoped):
     #: least alpha over S at or below this counts as zero (an exact LP vertex)
     stable_alpha = STABLE_ALPHA
 
-    def __init__(self, structure: Structure, deadline: Deadline | None = None, verbose: int = 0):
+    def __init__(self, structure: Structure, deadline: Deadline | None = None):
         self.t0 = time.perf_counter()
         self.user = structure
         self.deadline = deadline or Deadline()
-        self.verbose = verbose
         self.F, self.L = scales(structure)
         s = self.s = scaled(structure, self.F, self.L)
         self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
@@ -108,9 +110,8 @@ class ScaledProblem(Scoped):
         # one LP between the two kinds cost 10-17 s a re-solve at 2040 blocks.
         self.coh_r = HighsLP(Ac, -self.R * self.f0, cost, clo, chi, "cohesive-r")
         self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}  # (snapshots name them)
-        if verbose > 1:
-            for lp in self.lps.values():
-                lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
+        for lp in self.lps.values():
+            self._trace(lp)
         self.lps_elsewhere = 0  # LPs solved for this search by evaluator engines (see Fitness.merge)
         self.work_elsewhere = 0  # and their work
         self.dilatant = None  # (t, HighsLP): the cohesive LP of dilatancy t (see mechanism)
@@ -129,6 +130,12 @@ class ScaledProblem(Scoped):
     # ------------------------------------------------------------------ bookkeeping
     def elapsed(self):
         return time.perf_counter() - self.t0
+
+    def _trace(self, lp):
+        """Every solve of ``lp`` logged at DEBUG, where the log shows DEBUG (a trace costs
+        HiGHS a query a solve)."""
+        if log.isEnabledFor(logging.DEBUG):
+            lp.trace = lambda m: log.debug("%8.2f %s", self.elapsed(), m)
 
     def n_lps(self):
         """LP solves so far, those of evaluations merged from elsewhere included."""
@@ -311,8 +318,7 @@ class ScaledProblem(Scoped):
                     basis = (np.concatenate([basis[0][:self.nl], lower, basis[0][self.nl:]]), basis[1])
             if basis is not None:
                 lp.restart(basis)
-            if self.verbose > 1:
-                lp.trace = lambda m: print(f"{self.elapsed():8.2f} {m}", flush=True)
+            self._trace(lp)
             self.dilatant = (t, lp)
         lp = self.dilatant[1]
         c = np.maximum(np.asarray(c, float), 0.0) / self.C

@@ -27,6 +27,7 @@ No warm bases: an interior-point program starts cold (``lps`` is empty).
 """
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -39,12 +40,11 @@ from ..certify3d import (CollapseState3D, align, mechanism_lp, passes, polish_me
 from ..cone import ConePrograms
 from ..options import Deadline
 from ..tuning import (ALIGN_CAP_ROWS, ALIGN_IPM_CAP, CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS,
-                      CONE_LP_FIRST_POINTS, STABLE_ALPHA_CONE, WORK_FLOOR_CONE, WORK_PER_BLOCK_CONE)
+                      CONE_LP_FIRST_POINTS, MECHANISMS_REMEMBERED, STABLE_ALPHA_CONE, WORK_FLOOR_CONE,
+                      WORK_PER_BLOCK_CONE)
 from .program import Scoped
 
-#: How many recent mechanisms keep the cohesions they are least-alpha_K for (a certificate
-#: polishes to that optimum).
-_REMEMBERED = 16
+log = logging.getLogger(__name__)
 
 
 class ConeProblem(Scoped):
@@ -54,12 +54,10 @@ class ConeProblem(Scoped):
     polish = False
     stable_alpha = STABLE_ALPHA_CONE
 
-    def __init__(self, structure: Structure3D, deadline: Deadline | None = None, verbose: int = 0,
-                 threads: int = 1):
+    def __init__(self, structure: Structure3D, deadline: Deadline | None = None, threads: int = 1):
         self.t0 = time.perf_counter()
         self.user = structure
         self.deadline = deadline or Deadline()
-        self.verbose = verbose
         self.F, self.L = scales(structure)
         self.form = Formulation3D.of(scaled(structure, self.F, self.L))
         self.user_form = Formulation3D.of(structure)
@@ -119,9 +117,8 @@ class ConeProblem(Scoped):
 
     def _ran(self, res, name):
         """A program's result; Stopped if the deadline fired during it."""
-        if self.verbose > 1:
-            print(f"{self.elapsed():8.2f} {name}: {res.status} alpha {res.alpha:.7f} ({res.seconds:.2f} s, "
-                  f"{res.iterations} iterations)", flush=True)
+        log.debug("%8.2f %s: %s alpha %.7f (%.2f s, %d iterations)", self.elapsed(), name, res.status, res.alpha,
+                  res.seconds, res.iterations)
         if not res.ok and res.status not in ("infeasible", "unbounded"):
             self.deadline.check()
         return res
@@ -224,7 +221,7 @@ class ConeProblem(Scoped):
         if res is None:
             res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left(),
                                                dilatancy=dilatancy), "cohesive" if allowed is None else "cohesive-r")
-            self._solved = {key: res} | dict(list(self._solved.items())[:_REMEMBERED - 1])
+            self._solved = {key: res} | dict(list(self._solved.items())[:MECHANISMS_REMEMBERED - 1])
         if not res.ok:
             return res.status, np.nan, None, None, None
         if res.u is None:
@@ -232,11 +229,11 @@ class ConeProblem(Scoped):
         u = res.u
         if dilatancy > 0:
             u = u.copy()  # its own object: gap weights and flows look up its dilatancy by identity
-            self._dilatant = {id(u): (u, dilatancy)} | dict(list(self._dilatant.items())[-(_REMEMBERED - 1):])
+            self._dilatant = {id(u): (u, dilatancy)} | dict(list(self._dilatant.items())[-(MECHANISMS_REMEMBERED - 1):])
         xi = self.flows(u)
         if allowed is not None:
             xi[~np.asarray(allowed, bool)] = 0.0
-        self._mechanisms = {id(u): (u, c)} | dict(list(self._mechanisms.items())[-(_REMEMBERED - 1):])
+        self._mechanisms = {id(u): (u, c)} | dict(list(self._mechanisms.items())[-(MECHANISMS_REMEMBERED - 1):])
         return "optimal", res.alpha, res.x, u, xi
 
     # ---------------------------------------------------------------- certification
@@ -315,9 +312,8 @@ class ConeProblem(Scoped):
                         cap_rows=ALIGN_CAP_ROWS, tally=tally)
         finally:
             self.n_lp += len(steps)
-        if self.verbose > 1:
-            print(f"{self.elapsed():8.2f} align: {'aligned' if got is not None else 'none'} after {len(steps)} LPs "
-                  f"(work {sum(steps):.2e})", flush=True)
+        log.debug("%8.2f align: %s after %d LPs (work %.2e)", self.elapsed(), "aligned" if got is not None else "none",
+                  len(steps), sum(steps))
         moved = None if got is None else project_mechanism(self.form, got[1], ~(opening | sliding), sliding)
         if moved is None:
             return

@@ -48,7 +48,6 @@ class GapProgram(Protocol):
     #: number of cohesions (contacts, or contact points): the GA's genome length
     nc: int
     deadline: object
-    verbose: int
     #: the warm-started LPs by name (empty where programs start cold)
     lps: dict
     #: program solves made for this search elsewhere (pure GA evaluations merged in)

@@ -2,11 +2,14 @@
 units), when the first came, every improvement, and the time spent in each phase."""
 from __future__ import annotations
 
+import logging
 import time
 
 from ..state import CollapseState
 from ..tuning import IMPROVEMENT, RESIDUAL_TOLERANCE
 from .program import GapProgram
+
+log = logging.getLogger(__name__)
 
 
 class Record:
@@ -27,9 +30,16 @@ class Record:
         self.history = []                           # (seconds, alpha, source, LP solves) of each improvement
         self.phases = {}                            # seconds per phase
 
-    def phase(self, name, t):
-        """Add the time since ``t`` (perf_counter) to phase ``name``."""
-        self.phases[name] = self.phases.get(name, 0.0) + time.perf_counter() - t
+    def phase(self, name, t, step=False):
+        """Add the time since ``t`` (perf_counter) to phase ``name``, a phase or lane that
+        ended (logged at INFO with the work and the best alpha so far; a ``step`` of one,
+        an alternation or a descent, at DEBUG)."""
+        seconds = time.perf_counter() - t
+        self.phases[name] = self.phases.get(name, 0.0) + seconds
+        level = logging.DEBUG if step else logging.INFO
+        if log.isEnabledFor(level):
+            log.log(level, "%s: %.2f s, %d LP solves so far, best certified alpha %s", name, seconds,
+                    self.problem.n_lps(), f"{self.best.alpha:.6f}" if self.best is not None else "none")
 
     def alpha(self) -> float:
         """The best certified alpha (inf if none)."""
@@ -48,17 +58,16 @@ class Record:
         p = self.problem
         user = p.to_user(state)
         if max(user.residual.values()) > RESIDUAL_TOLERANCE:
-            if p.verbose > 1:
+            if log.isEnabledFor(logging.DEBUG):
                 bad = {k: f"{v:.1e}" for k, v in user.residual.items() if v > RESIDUAL_TOLERANCE}
-                print(f"{p.elapsed():8.2f}   rejected alpha {a:.7f} in the user's units: {bad} "
-                      f"(scaled: {max(state.residual.values()):.1e})", flush=True)
+                log.debug("%8.2f   rejected alpha %.7f in the user's units: %s (scaled: %.1e)", p.elapsed(), a, bad,
+                          max(state.residual.values()))
             return
         self.best, self.best_user = state, user
         t = p.elapsed()
         if self.first is None:
             self.first = (a, t)
         self.history.append((t, a, state.source, p.n_lps()))
-        if p.verbose:
-            print(f"  {t:8.2f} s  alpha {a:.6f}  {state.source}", flush=True)
+        log.info("%8.2f s  certified alpha %.6f  %s (%d LP solves)", t, a, state.source, p.n_lps())
         if self.on_certified is not None:
             self.on_certified(user)

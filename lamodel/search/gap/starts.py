@@ -21,6 +21,7 @@ seed's chain from the stall (:mod:`.fallback`).
 """
 from __future__ import annotations
 
+import logging
 import time
 
 import numpy as np
@@ -36,6 +37,16 @@ from .fallback import fallback
 from .program import GapProgram
 from .record import Record
 from .side_by_side import alongside, side_by_side
+
+log = logging.getLogger(__name__)
+
+
+def _log_lanes(lanes, outcomes):
+    """Each lane's least certified alpha and its LP solves (None: not counted here)."""
+    for names, (_, states, lps, _) in zip(lanes, outcomes):
+        least = min((st.alpha for st in states if st is not None), default=None)
+        found = "no new certified state" if least is None else f"least certified alpha {least:.6f}"
+        log.info("lane [%s]: %s%s", ", ".join(names), found, "" if lps is None else f", {lps} LP solves")
 
 
 def _least(best, st):
@@ -157,24 +168,8 @@ class Starts:
         its own, another thread with ``workers`` > 1, else after the chains; its work
         bound its own, so the answer does not depend on the threads), merged after the
         chains; both then count as run (once a search). The search goes on from the bases
-        of the dilatancy lane where it certified a lower alpha than the chains.
-
-        Measured (default runs, work in units of the default work bound, whole process on
-        two cores). One after the other, each stopping the first certificate where it
-        certified, the dilatancy continuation last: the 1,020-block running-bond walls at
-        mu = 0.9 and 1.0 got theirs from the chain from zero cohesion at 3.7 and 4.0 units,
-        but on the 2,040-block wall at mu = 0.9 the rescue alone spent 5.4 of the 8 units
-        and the chains the rest, nothing certified (1,127 s); the dilatancy continuation
-        certifies that wall after 5.7 more units from the rescue's bases, after 4.3 from the
-        stalled alternation's. With the continuation right after the rescue, the 1,020-block
-        wall at mu = 0.9 got only 0.523750, at 7.4 units (529 s; the chain from zero then
-        certified nothing on the bases the continuation left). In lanes: the 2,040-block
-        wall at mu = 0.9 certified 0.459521 (the dilatancy lane, at 4.7 units; 994 s, the
-        lane running on to its bound), the 1,020-block walls at mu = 0.9 and 1.0 the same
-        0.522916 and 0.549900 from the chains (255 and 206 s; 192 and 220 s before, the
-        dilatancy lane the longer one at mu = 0.9). The chains run on this engine, as
-        before: run as a pure evaluation from a snapshot (its LPs restarted from the same
-        bases) they left the 1,020-block wall at mu = 1.0 uncertified."""
+        of the dilatancy lane where it certified a lower alpha than the chains (why lanes,
+        and why the chains on this engine: docs/method/evidence.md)."""
         self._lane_from = self.work()
         left = None if self.first_bound is None else max(0.0, self.first_bound - self._lane_from)
         t = time.perf_counter()
@@ -190,11 +185,14 @@ class Starts:
         snap = self.snapshot()
         real = real or p.deadline  # the search's deadline (the dilatancy lane's work bound is its own)
         calls = [("starts_pure", (snap, [("dilatancy", (x_assoc,))], None, left, real))]
+        log.info("nothing certified by the alternation: lanes [rescue, from zero, fixed point] beside [dilatancy]")
         try:
             outcomes = alongside(here, self.new_engine, calls, workers, running=self._running)
         finally:
             self.record.phase("first certificate", t)
         mine = self.record.best
+        _log_lanes([["chains"]], [(None, [mine] if mine is not None else [], None, None)])
+        _log_lanes([["dilatancy"]], outcomes)
         for _, states, n, learned in outcomes:
             self.merge(states, n, learned)
         there = min(outcomes[0][1], key=lambda st: st.alpha, default=None)
@@ -213,13 +211,8 @@ class Starts:
         Returns the least certified state (or None).
 
         Cold: the cohesive LP's statics is massively degenerate and the chain follows the
-        optimum HiGHS returns; from the bases the stalled alternations left, the chain
-        stays where they stalled (the 1,020-block running-bond walls at mu = 0.9 and 1.0:
-        nothing certified in 317 and 744 s), while a cold start (interior point and
-        crossover on large LPs) owes nothing to them: the default run certifies both
-        (0.522916 and 0.549900, whole process 243 and 256 s). Only here, where nothing is
-        certified yet: warm from a certified state's bases the chain from zero finds lower
-        states (the 33-block running-bond wall at mu = 1.0: 0.607903 warm, 0.685714 cold)."""
+        optimum HiGHS returns; warm from the stalled alternations' bases it stays where they
+        stalled (measured: docs/method/evidence.md)."""
         best = self.rescue(x_assoc, x_stall)
         if self.record.best is not None:
             return best
@@ -254,9 +247,7 @@ class Starts:
         lane) or the dilatancy continuation (second lane) on the same engine, warm from where
         the ladder ended. The lanes run :meth:`side_by_side`. The LPs keep the bases they had
         before them (the lanes run on engines of their own), so that what follows (the GA,
-        serial or pure evaluations from a snapshot) starts where it would without them:
-        measured, a 28-block wall's parallel GA certified nothing from the bases the
-        continuation left."""
+        serial or pure evaluations from a snapshot) starts where it would without them."""
         lanes = [[("continuation", (x_assoc, rhos))] for rhos in RHO_CONTS]
         after = [("from_zero", (), self._from_zero), ("dilatancy", (x_assoc,), self._dilatancy)]
         for lane, (name, args, ran) in zip(lanes, after):
@@ -270,10 +261,7 @@ class Starts:
         ``workers`` threads (:func:`~lamodel.search.gap.side_by_side.side_by_side`): each lane
         a pure function of a snapshot (:meth:`snapshot`) with an equal share of the work
         bounds left, merged in the order given, so that the answer is the same with any
-        number of threads. Measured on the 1,020-block running-bond wall (mu 0.65): the two
-        ladders of RHO_CONTS took 25.7 and 36.2 s one after the other and 26.4 and 37.3 s side
-        by side on two cores (the same states and LP solves). Returns the least certified
-        state of each lane (None: none); raises Stopped, after merging, where the deadline
+        number of threads. Returns the least certified state of each lane (None: none); raises Stopped, after merging, where the deadline
         ended them."""
         if not lanes or self._spent():
             return [None] * len(lanes)
@@ -284,10 +272,12 @@ class Starts:
         lps = None if self.work_limit is None else max(0, self.work_limit - p.n_lps()) // k
         work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
         calls = [("starts_pure", (snap, lane, lps, work, p.deadline)) for lane in lanes]
+        log.info("%s: lanes %s", phase, " beside ".join(f"[{', '.join(name for name, *_ in lane)}]" for lane in lanes))
         try:
             outcomes = side_by_side(self.new_engine, calls, workers, running=self._running)
         finally:
             self.record.phase(phase, t)
+        _log_lanes([[name for name, *_ in lane] for lane in lanes], outcomes)
         for _, states, n, learned in outcomes:
             self.merge(states, n, learned)
         if any(stopped for stopped, *_ in outcomes) and p.deadline.expired():
@@ -382,13 +372,9 @@ class Starts:
 
     def from_zero(self):
         """The seed's fixed-point chain from zero cohesion (:mod:`.fallback`), once: the
-        weakest fictitious system, a start that depends on nothing found before. Measured
-        (benchmarks/families.py --quick): 7 of the 37 cases get their best from it, e.g. the
-        10 x 10 running-bond wall at mu = 1.0 0.569157 where the alternation certifies
-        1.000000 (the wall sliding on its base); the 33-block panel at mu = 0.9 0.617364 for
-        every seed (else 0.685714 or 0.666030 for 4 seeds in 20); Table 1's walls keep
-        their values. Without a time limit it stops at ``work_limit``. Returns its least
-        certified state (or None)."""
+        weakest fictitious system, a start that depends on nothing found before (what it
+        finds: docs/method/evidence.md). Without a time limit it stops at ``work_limit``.
+        Returns its least certified state (or None)."""
         if self._from_zero is None:
             t = time.perf_counter()
             try:
@@ -488,9 +474,8 @@ class Starts:
             if relax == 1.0 and best is None and step >= FALLBACK_PATIENCE:
                 relax, seen = CHAIN_RELAXATION, []  # not converging: averaged from here
             status, a_k, xc, u, xi = p.mechanism(c)
-            if p.verbose > 1:
-                print(f"{p.elapsed():8.2f}   chain {source} step {step}: {status} alpha_K {a_k:.7f} relax {relax:g}",
-                      flush=True)
+            log.debug("%8.2f   chain %s step %d: %s alpha_K %.7f relax %g", p.elapsed(), source, step, status, a_k,
+                      relax)
             if status != "optimal":
                 break
             st = self.certifier.certify(u, xi, source)
