@@ -169,6 +169,8 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     parts, idx = shapely.orient_polygons(shapely.simplify(parts[keep], tol / 2)), idx[keep]
     keep = (shapely.get_type_id(parts) == 3) & ~shapely.is_empty(parts)
     parts, idx = parts[keep], idx[keep]
+    if not len(parts):   # every overlap thinner than the tolerance
+        return []
     f_a, f_b = fa[idx], fb[idx]
     # every exterior ring in space at once (rings are closed: the last point repeats the first)
     xy, ring = shapely.get_coordinates(shapely.get_exterior_ring(parts), return_index=True)
