@@ -53,8 +53,9 @@ class JointProbe:
     def near(self, factor) -> set:
         """Pairs whose facets meet within ``factor`` times the tolerance but are not joined:
         the polyhedra as read, only the contact search looser (cheap: run on every read)."""
+        joined = [(f.a, f.b) for f in self.interfaces]   # left out: only the others are searched
         try:
-            loose = find_interfaces(self.polys, self.is_support, self.tol * factor)
+            loose = find_interfaces(self.polys, self.is_support, self.tol * factor, skip=joined)
         except InputError:
             return set()
         return joined_pairs(self.ids, loose) - joined_pairs(self.ids, self.interfaces)
