@@ -90,6 +90,7 @@ def missed_joints(where, probe: JointProbe, stored=None, factors=NEAR_JOINT_FACT
                 f"{rel * factors[-1]:g} but not within {rel:g}: not joined; ")
     else:
         support = {i for i, s in zip(probe.ids, probe.is_support) if s}
+        stored = {p for p in stored if set(p) <= set(probe.ids)}   # edges of the file's blocks only
         wanted = {p for p in stored if p not in ours and not set(p) <= support}
         if not wanted:
             return None

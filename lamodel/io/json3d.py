@@ -107,10 +107,13 @@ def _check_supports3d(where, spec, ids, vertices, is_support):
     low = np.array([v[:, 2].min() if len(v) else np.inf for v in vertices])
     j = int(np.argmin(low))
     every = np.vstack(vertices)
+    if not len(every):   # no finite corner anywhere: nothing to point at
+        return check_supports(where, is_support)
     level = low[j] + SUPPORT_LEVEL * float(np.linalg.norm(np.ptp(every, axis=0)))  # a course, not one point
     at = f"the lowest block is '{ids[j]}' (its lowest point at z = {low[j]:.6g}; {int((low < level).sum())} " \
          f"block(s) reach below z = {level:.6g})"
-    if (spec.get("meta") or {}).get("source", "lamodel JSON") == "lamodel JSON":
+    source = str((spec.get("meta") or {}).get("source", ""))
+    if not (source == "COMPAS assembly" or source.startswith("mesh")):   # the readers of lamodel.io.assemblies
         raise InputError(f"{where}: no block is a support; expected at least one body with \"support\": true; {at}")
     raise InputError(f"{where}: no block is a support; expected --supports-below Z (blocks whose lowest point is "
                      f"below Z are supports) or --supports ID,ID,...; {at}")
