@@ -1,6 +1,7 @@
 """COMPAS sample assemblies: blocks, supports, interfaces and area found by lamodel at two
-tolerances, beside COMPAS's own interfaces (when the file stores them: their number, and
-how many of those block pairs lamodel finds, and their total area).
+tolerances, and whether the structure then carries its dead load (a dead-load mechanism of
+lamodel.search.unstable, or none); beside COMPAS's own interfaces (when the file stores
+them: their number, and how many of those block pairs lamodel finds, and their total area).
 
     PYTHONPATH=. python benchmarks/compas_samples.py FOLDER
 
@@ -11,11 +12,15 @@ import json
 import sys
 from pathlib import Path
 
+import warnings
+
 import numpy as np
 
 from lamodel.errors import InputError
 from lamodel.io.assemblies import compas_spec, read_compas
 from lamodel.output.tables3d import contacts_summary
+from lamodel.search.tuning import SUPPORT_LEVEL
+from lamodel.search.unstable import dead_load_mechanism3d
 
 TOLERANCES = (1e-6, 1e-4)
 
@@ -34,8 +39,8 @@ def _their_area(nodes):
 def _supports(data):
     spec = compas_spec(data)
     low = np.array([np.min(np.asarray(b["vertices"])[:, 2]) for b in spec["blocks"]])
-    size = np.ptp(np.vstack([b["vertices"] for b in spec["blocks"]]), axis=0).max()
-    below = low <= low.min() + 1e-3 * size
+    size = np.linalg.norm(np.ptp(np.vstack([b["vertices"] for b in spec["blocks"]]), axis=0))
+    below = low <= low.min() + SUPPORT_LEVEL * size   # the level the "no block is a support" error counts
     if below.all():
         cz = [np.mean(np.asarray(b["vertices"])[:, 2]) for b in spec["blocks"]]
         below = np.arange(len(low)) == int(np.argmin(cz))
@@ -43,7 +48,7 @@ def _supports(data):
 
 
 def main(folder):
-    head = "".join(f" {'ifaces@' + format(t, '.0e'):>12} {'area':>8} {'matched':>7}" for t in TOLERANCES)
+    head = "".join(f" {'ifaces@' + format(t, '.0e'):>12} {'area':>8} {'matched':>7} {'stands':>6}" for t in TOLERANCES)
     print(f"{'sample':<15} {'blocks':>6} {'supports':>8}{head} {'COMPAS':>7} {'area':>8}  note")
     for path in sorted(Path(folder).glob("*.json")):
         data = json.loads(path.read_text())
@@ -53,16 +58,19 @@ def main(folder):
         cells, sizes, note = "", None, ""
         for tol in TOLERANCES:
             try:
-                s = read_compas(path, tolerance=tol, **options)
+                with warnings.catch_warnings():   # the missed joints are the columns here
+                    warnings.simplefilter("ignore")
+                    s = read_compas(path, tolerance=tol, **options)
             except InputError as exc:
-                cells += f" {'-':>12} {'-':>8} {'-':>7}"
+                cells += f" {'-':>12} {'-':>8} {'-':>7} {'-':>6}"
                 note = note or str(exc).split(": ", 1)[1][:60]
                 continue
             c = contacts_summary(s)
             sizes = sizes or (c["blocks"], c["supports"])
             ours = {tuple(sorted(p)) for p in zip(s.iface_a, s.iface_b)}
             matched = len(ours & theirs) if theirs else "-"
-            cells += f" {c['interfaces']:>12} {c['area']:>8.4f} {matched:>7}"
+            stands = "yes" if dead_load_mechanism3d(s) is None else "no"
+            cells += f" {c['interfaces']:>12} {c['area']:>8.4f} {matched:>7} {stands:>6}"
         blocks, supports = sizes or ("-", "-")
         area = f"{_their_area(nodes):.4f}" if theirs else "-"
         print(f"{path.stem:<15} {blocks:>6} {supports:>8}{cells} {len(theirs) or '-':>7} {area:>8}  {note}")

@@ -125,8 +125,9 @@ def _orientation_swap(normal, a_support, b_support):
     return False
 
 
-def find_interfaces(polys, is_support, tol: float) -> list:
-    """All interfaces of the bodies ``polys`` (list of Polyhedron); ``is_support`` per body.
+def find_interfaces(polys, is_support, tol: float, skip=None) -> list:
+    """All interfaces of the bodies ``polys`` (list of Polyhedron); ``is_support`` per body;
+    ``skip``: body pairs (i, j) to leave out (e.g. pairs already joined at a finer tolerance).
 
     Raises InputError when two bodies overlap (interiors intersect by more than ``tol``).
     """
@@ -135,6 +136,10 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     hi = np.array([p.hi for p in polys])
     pairs = candidate_pairs(lo, hi, tol)
     pairs = pairs[~(is_support[pairs[:, 0]] & is_support[pairs[:, 1]])]
+    if skip is not None and len(skip) and len(pairs):
+        n = len(polys)
+        skip = np.sort(np.asarray(skip, dtype=int).reshape(-1, 2), axis=1)
+        pairs = pairs[~np.isin(pairs[:, 0] * n + pairs[:, 1], skip[:, 0] * n + skip[:, 1])]
     check_overlaps(polys, pairs, lo, hi, tol)
     t, start, count = _facet_table(polys)
     fa, fb = _facet_pairs(pairs, start, count)
@@ -169,6 +174,8 @@ def find_interfaces(polys, is_support, tol: float) -> list:
     parts, idx = shapely.orient_polygons(shapely.simplify(parts[keep], tol / 2)), idx[keep]
     keep = (shapely.get_type_id(parts) == 3) & ~shapely.is_empty(parts)
     parts, idx = parts[keep], idx[keep]
+    if not len(parts):   # every overlap thinner than the tolerance
+        return []
     f_a, f_b = fa[idx], fb[idx]
     # every exterior ring in space at once (rings are closed: the last point repeats the first)
     xy, ring = shapely.get_coordinates(shapely.get_exterior_ring(parts), return_index=True)

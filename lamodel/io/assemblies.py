@@ -10,7 +10,9 @@ below Z).
 
 * COMPAS: ``"dtype": "compas_assembly.datastructures/Assembly"`` (or compas_cra's
   ``CRA_Assembly``); each node's ``block`` mesh (``vertex``, ``face``) is one block, named by
-  its node key; COMPAS's own interfaces, if present, are ignored and recomputed. Warped
+  its node key; lamodel finds the interfaces itself, and when the file stores COMPAS's own
+  (edges with ``interfaces``) warns of the block pairs they join that it does not
+  (:mod:`lamodel.io.joints3d`, with the tolerance that joins them). Warped
   (non-planar) faces, COMPAS's approximation of curved intrados and extrados, are split
   into triangles; a contact is found only between planar pieces.
 * Meshes (through trimesh): a file of several geometries (OBJ objects, glTF nodes, placed)
@@ -61,11 +63,29 @@ def _mechanics(spec, where, mu=None, unit_weight=None, live_load=None, supports=
 
 
 # ---------------------------------------------------------------------------- COMPAS
-def _graph_nodes(data, where):
-    """The node dict of a COMPAS assembly (its graph), for the versions seen in the wild."""
+def _graph(data):
+    """The graph dict of a COMPAS assembly (node, edge), for the versions seen in the wild."""
     d = data.get("data", data)
     graph = d.get("graph", d)
-    graph = graph.get("data", graph) if isinstance(graph, dict) else graph
+    return graph.get("data", graph) if isinstance(graph, dict) else graph
+
+
+def stored_joints(data) -> set | None:
+    """The block pairs (sorted id tuples) that a COMPAS assembly's own interfaces join (its
+    edges with a non-empty ``interfaces`` list); None when the file stores none."""
+    graph = _graph(data)
+    edges = graph.get("edge") if isinstance(graph, dict) else None
+    pairs = set()
+    for a, row in (edges.items() if isinstance(edges, dict) else ()):
+        for b, attrs in (row.items() if isinstance(row, dict) else ()):
+            if isinstance(attrs, dict) and attrs.get("interfaces") and str(a) != str(b):
+                pairs.add(tuple(sorted((str(a), str(b)))))
+    return pairs or None
+
+
+def _graph_nodes(data, where):
+    """The node dict of a COMPAS assembly (its graph)."""
+    graph = _graph(data)
     nodes = graph.get("node") if isinstance(graph, dict) else None
     if not isinstance(nodes, dict) or not nodes:
         raise InputError(f"{where}: no assembly nodes found (data.graph.data.node); expected a COMPAS Assembly")
@@ -112,7 +132,7 @@ def read_compas(path, name=None, tolerance=None, contact_points=None, units=None
     if units:
         spec["units"] = dict(units)
     return structure3d_from_spec(spec, where, name=name, tolerance=tolerance, contact_points=contact_points,
-                                 split_nonplanar=True)
+                                 split_nonplanar=True, stored_joints=stored_joints(data))
 
 
 # ----------------------------------------------------------------------------- meshes

@@ -35,7 +35,9 @@ from ..errors import InputError
 from ..geometry.interfaces3d import find_interfaces, interface_points, parse_contact_points
 from ..geometry.hulls import convex_polyhedra
 from ..geometry.polyhedra import polyhedron
+from ..search.tuning import SUPPORT_LEVEL
 from ..structure3d import Structure3D, tangent_frame
+from .joints3d import JointProbe, warn_missed_joints
 from .jsonfields import (blocks_of, body_head, body_support_mu, check_supports, load_spec, number, units, validated,
                          warn_unknown, writes_live)
 
@@ -89,14 +91,44 @@ def _check_connected(ids, is_support, interfaces, where):
                          "floats); expected every block to rest, through others, on a support")
 
 
+def _polyhedra_and_interfaces(bodies, is_support, tol, split_nonplanar):
+    """The bodies' polyhedra and their interfaces at the absolute tolerance ``tol``."""
+    bulk = convex_polyhedra([b[0] for b in bodies], [b[1] if b[2] is None else [] for b in bodies], tol)
+    polys = [p or polyhedron(b[0], b[1], b[2], tol, split_nonplanar) for p, b in zip(bulk, bodies)]
+    return polys, find_interfaces(polys, is_support, tol)
+
+
+def _check_supports3d(where, spec, ids, vertices, is_support):
+    """:func:`check_supports`, and with no support the lowest block named: for an input
+    without mechanical data (COMPAS, meshes) with both command-line ways to give supports."""
+    if is_support.any():
+        return check_supports(where, is_support)
+    vertices = [v[np.isfinite(v).all(axis=1)] for v in vertices]
+    low = np.array([v[:, 2].min() if len(v) else np.inf for v in vertices])
+    j = int(np.argmin(low))
+    every = np.vstack(vertices)
+    if not len(every):   # no finite corner anywhere: nothing to point at
+        return check_supports(where, is_support)
+    level = low[j] + SUPPORT_LEVEL * float(np.linalg.norm(np.ptp(every, axis=0)))  # a course, not one point
+    at = f"the lowest block is '{ids[j]}' (its lowest point at z = {low[j]:.6g}; {int((low < level).sum())} " \
+         f"block(s) reach below z = {level:.6g})"
+    source = str((spec.get("meta") or {}).get("source", ""))
+    if not (source == "COMPAS assembly" or source.startswith("mesh")):   # the readers of lamodel.io.assemblies
+        raise InputError(f"{where}: no block is a support; expected at least one body with \"support\": true; {at}")
+    raise InputError(f"{where}: no block is a support; expected --supports-below Z (blocks whose lowest point is "
+                     f"below Z are supports) or --supports ID,ID,...; {at}")
+
+
 def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None = None,
                           tolerance: float | None = None, contact_points=None,
-                          split_nonplanar: bool = False) -> Structure3D:
+                          split_nonplanar: bool = False, stored_joints=None) -> Structure3D:
     """Build a validated :class:`Structure3D` from a 3D spec dict (see the module docs).
 
     ``tolerance`` (relative to the size) and ``contact_points`` override the spec's fields;
-    ``split_nonplanar`` splits warped faces into triangles (CAD inputs) instead of refusing them.
-    Raises InputError, one line naming the block, for anything that is not a block assembly.
+    ``split_nonplanar`` splits warped faces into triangles (CAD inputs) instead of refusing them;
+    ``stored_joints``: the block pairs a COMPAS file's own interfaces join (compared with the
+    joints found, :mod:`lamodel.io.joints3d`). Raises InputError, one line naming the block,
+    for anything that is not a block assembly; warns of joints the tolerance misses.
     """
     where = where or f"geometry '{spec.get('name', '<dict>')}'"
     warn_unknown(where, spec.keys(), TOP_FIELDS_3D, "top-level")
@@ -113,21 +145,23 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     bodies = _bodies(spec, where, mu_all)
     ids = [b[0] for b in bodies]
     is_support = np.array([b[3] for b in bodies], dtype=bool)
-    check_supports(where, is_support)
     bad = next((b[0] for b in bodies if not _is_points(b[1])), None)
     if bad is not None:
         raise InputError(f"{where}: block '{bad}': 'vertices' is not a list of [x, y, z] points; "
                          "expected [[x1, y1, z1], ...]")
-    allv = np.vstack([np.asarray(b[1], dtype=float) for b in bodies])
+    vertices = [np.asarray(b[1], dtype=float).reshape(-1, 3) for b in bodies]
+    _check_supports3d(where, spec, ids, vertices, is_support)
+    allv = np.vstack(vertices)
     finite = allv[np.isfinite(allv).all(axis=1)]
     size = float(np.linalg.norm(finite.max(axis=0) - finite.min(axis=0))) if len(finite) else 1.0
     tol = rel_tol * (size or 1.0)
     try:
-        bulk = convex_polyhedra([b[0] for b in bodies], [b[1] if b[2] is None else [] for b in bodies], tol)
-        polys = [p or polyhedron(b[0], b[1], b[2], tol, split_nonplanar) for p, b in zip(bulk, bodies)]
-        interfaces = find_interfaces(polys, is_support, tol)
+        polys, interfaces = _polyhedra_and_interfaces(bodies, is_support, tol, split_nonplanar)
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
+    # before the connectivity check: a block that touches nothing is often a near-joint
+    reread = lambda t: _polyhedra_and_interfaces(bodies, is_support, t, split_nonplanar)[1]  # noqa: E731
+    warn_missed_joints(where, JointProbe(ids, is_support, polys, interfaces, rel_tol, tol, reread), stored_joints)
     _check_connected(ids, is_support, interfaces, where)
 
     moving = np.flatnonzero(~is_support)

@@ -25,9 +25,21 @@ def explain_unstable(outcome):
     if u is None:
         return None
     names = [b for b, m in zip(outcome.structure.blocks, moving_blocks(outcome.structure, u)) if m]
-    shown = ", ".join(names[:20]) + (f", ... ({len(names)} blocks)" if len(names) > 20 else "")
-    outcome.message += f"; the blocks that move under dead load alone: {shown}"
+    outcome.message += unheld_words(names)
     return u
+
+
+#: Block ids named at most in the one-line unstable verdict (the rest counted).
+SHOWN_UNHELD = 10
+
+
+def unheld_words(names, complete=True) -> str:
+    """The end of the unstable verdict's line: the count of the blocks that move under dead
+    load alone and the first few ids (``complete``: the list is all of them)."""
+    n = len(names)
+    shown = ", ".join(names[:SHOWN_UNHELD]) + (", ..." if n > SHOWN_UNHELD else "")
+    return (f"; the blocks that move under dead load alone: {shown} ({n} block{'s' if n != 1 else ''}"
+            f"{'' if complete else ', and maybe more'})")
 
 
 def picture_of(outcome, results, dead_u=None) -> dict:

@@ -148,15 +148,16 @@ def _read(source, warn, inputs=None):
     from ..io import read
     if not isinstance(source, (str, os.PathLike)):
         return source
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        structure = read(source, **(inputs or {}))
-    for w in caught:  # shown before the solve: they change the answer
-        if warn is not None and issubclass(w.category, UserWarning):
-            warn(str(w.message))
-        else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    return structure
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            return read(source, **(inputs or {}))
+    finally:  # shown before the solve (they change the answer), and before a reading error they may explain
+        for w in caught:
+            if warn is not None and issubclass(w.category, UserWarning):
+                warn(str(w.message))
+            else:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def _analyse(structure, source, options, out, method, seed_ga, picture, report, animate, moving, echo, command,

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..search.state import INTERRUPTED
+from ..search.state import INTERRUPTED, UNSTABLE
 
 #: --method -> (solve3d's method, explore)
 METHODS3D = {"lamodel": ("all", True), "associative": ("associative", False), "successive-lp": ("successive", False)}
@@ -139,6 +139,15 @@ def _solve(s, method, options, stop, on_associative=None):
     return done[keep], table, methods_frame3d(table, iterations), keep
 
 
+def _unheld(structure) -> str:
+    """The unstable verdict's blocks (:func:`lamodel.search.unstable.unheld_blocks3d`): the
+    ones no statics holds under the dead load alone, for the user to look at."""
+    from ..search.unstable import unheld_blocks3d
+    from .extras import unheld_words
+    names, complete = unheld_blocks3d(structure)
+    return unheld_words(names, complete) if names else ""
+
+
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,
               animate=None, moving=(None, None, None), view=None, echo=None, prove=None):
     """Solve a :class:`lamodel.structure3d.Structure3D` and write its result folder (see the
@@ -178,6 +187,8 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
                 result, runs, methods, kept = _solve(structure, method, options, stop.is_set, beside.start)
         finally:
             restore_sigint(caught)
+        if result.status == UNSTABLE:
+            result.message += _unheld(structure)
         if echo is not None and methods is not None:
             for _, row in methods.iterrows():
                 cert = "none" if not row["certified"] else f"{row['alpha_certified']:.6f}"
