@@ -324,11 +324,8 @@ LATE_SECONDS = 5.0
 
 # ======================================================= reading 3D inputs (io/joints3d.py)
 #: Facets that meet within these multiples of the geometric tolerance, but not within it,
-#: are near-joints, told in a warning with the least multiple that joins them (the largest
-#: finds them). Measured on compas_cra's Armadillo vault (366 blocks): at the default 1e-6
-#: lamodel joins 886 of the 1,014 block pairs the file stores, at 1e-5 945, at 1e-4 1,010
-#: (and the vault stands); at 1e-3 a block degenerates (zero volume). 100 reaches the
-#: joints of a file written in single precision.
+#: are near-joints, told in a warning with the least multiple that joins them (100 reaches
+#: the joints of a file written in single precision).
 NEAR_JOINT_FACTORS = (10.0, 100.0)
 #: The "no block is a support" error counts the blocks whose lowest point is within this
 #: fraction of the structure's size above the lowest one (a course of blocks on one level,
