@@ -63,13 +63,13 @@ def picture_of(outcome, results, dead_u=None) -> dict:
 def words_of(outcome, results, dead_u=None) -> list:
     """The mechanism in words (:mod:`lamodel.output.words`), one line each."""
     from .modes import modes_from_mechanism
-    from .words import bound_words, describe
+    from .words import bound_words, describe, stall_words
     s = outcome.structure
     if outcome.best is not None:
         return describe(s, outcome.best.u, results.modes(), outcome.best.alpha) + bound_words(results.summary)
     if dead_u is not None:
         return ["Under dead load alone (no live load):"] + describe(s, dead_u, modes_from_mechanism(s, dead_u))[1:]
-    return [f"No mechanism: {outcome.message}."]
+    return [f"No mechanism: {outcome.message}."] + stall_words(s, outcome.stalled)
 
 
 def picture_svg(outcome, results, dead_u=None) -> str:

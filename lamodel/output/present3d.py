@@ -160,7 +160,7 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
     from ..signals import catch_sigint, restore_sigint
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
     from .results3d import bound_columns3d, summary_row, write_results3d
-    from .words import bound_words
+    from .words import bound_words, stall_words
     import pandas as pd
     from .words3d import describe3d
 
@@ -198,7 +198,8 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
         summary = summary_row(structure, result, kept, extra)
         summary["wall_time_s"] = time.perf_counter() - t0
         summary |= bound_columns3d(structure, result, summary["wall_time_s"], prove, beside)
-        words = describe3d(structure, result.motions, result.modes) + bound_words(pd.DataFrame([summary]))
+        words = (describe3d(structure, result.motions, result.modes) + bound_words(pd.DataFrame([summary]))
+                 + stall_words(structure, result.stalled))
         write_results3d(stage.path, structure, result, summary, runs, methods)
         _draw({k: stage.path / Path(p).name for k, p in inside.items()}, structure, result)
         stage.publish()

@@ -9,6 +9,7 @@ import pandas as pd
 from ..search.driver import Outcome
 from .modes import modes_from_flow
 from .results import Results
+from .words import stall_columns
 
 
 def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Results:
@@ -49,6 +50,7 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
         "alpha": best.alpha + 0.0 if best is not None else np.nan,
         "certified": best is not None,
         "alpha_associative": outcome.alpha_associative + 0.0,
+        **stall_columns(outcome.stalled),
         "n_blocks": nb, "n_contacts": nc,
         "n_starts": len(outcome.runs),
         "n_certified": int(np.isfinite(runs["alpha_certified"].astype(float)).sum()) if len(runs) else 0,

@@ -7,7 +7,9 @@ A result folder holds (the output contract; other code and external checkers rel
     n_certified, wall_time_s — then any extra columns (seed, status, message, picture, ...;
     a solve adds ``alpha_lower``: no collapse state lies below it under this load pattern,
     proven; ``proven_global``: alpha is the global minimum within 1e-6 relative;
-    ``alpha_lower_seconds``, ``alpha_lower_check``: see :mod:`lamodel.bound`).
+    ``alpha_lower_seconds``, ``alpha_lower_check``: see :mod:`lamodel.bound`; without a
+    certified state ``alpha_stalled`` and ``gap_stalled``: where the search came nearest a
+    collapse state, never an answer).
 ``blocks.csv``
     one row per movable block: block, x, y (centroid), dead_x, dead_y, live_x, live_y,
     ux, uy, theta — the collapse mechanism, normalised so that ``sum(live . u) = 1``.

@@ -4,7 +4,8 @@ summary.csv, blocks.csv, contacts.csv, runs.csv (and methods.csv for ``--method 
 Columns, in the order written (``docs/guide/results.md`` gives their meanings):
 
 * ``summary.csv`` (:data:`SUMMARY_COLUMNS3D`), one row: ``instance``, ``alpha``,
-  ``certified``, ``alpha_associative``, ``status``, ``message``, ``method``, ``path``,
+  ``certified``, ``alpha_associative``, ``alpha_stalled``, ``gap_stalled``, ``status``,
+  ``message``, ``method``, ``path``,
   ``residual``, ``n_blocks``, ``n_supports``, ``n_interfaces``, ``n_contacts``,
   ``first_alpha``, ``first_time_s``, ``wall_time_s``, ``cone_programs``, ``lps``,
   ``dimension``, ``source``, ``mu``, ``unit_weight``, ``live_load``, ``defaults_applied``,
@@ -39,11 +40,12 @@ from ..structure3d import Structure3D
 from .methods import METHOD_COLUMNS
 from .results import FLOAT_FORMAT
 from .tables3d import blocks_table, contacts_table
+from .words import stall_columns
 
 #: summary.csv's columns, in the order written (any other column after them).
 SUMMARY_COLUMNS3D = (
-    "instance", "alpha", "certified", "alpha_associative", "status", "message", "method", "path", "residual",
-    "n_blocks", "n_supports", "n_interfaces", "n_contacts", "first_alpha", "first_time_s", "wall_time_s",
+    "instance", "alpha", "certified", "alpha_associative", "alpha_stalled", "gap_stalled", "status", "message",
+    "method", "path", "residual", "n_blocks", "n_supports", "n_interfaces", "n_contacts", "first_alpha", "first_time_s", "wall_time_s",
     "cone_programs", "lps", "dimension", "source", "mu", "unit_weight", "live_load", "defaults_applied",
     "length_unit", "force_unit", "seed", "time_limit", "picture", "view",
     "alpha_lower", "proven_global", "alpha_lower_seconds", "alpha_lower_check")
@@ -73,7 +75,8 @@ def summary_row(s: Structure3D, result, method: str, extra: dict) -> dict:
     live = meta.get("live_load")
     row = {
         "instance": s.name, "alpha": result.alpha, "certified": state is not None,
-        "alpha_associative": result.associative, "status": result.status, "message": result.message,
+        "alpha_associative": result.associative, **stall_columns(getattr(result, "stalled", None)),
+        "status": result.status, "message": result.message,
         "method": method, "path": result.path,
         "residual": max(state.residual.values()) if state is not None and state.residual else np.nan,
         "n_blocks": s.n_blocks, "n_supports": len(s.supports), "n_interfaces": s.n_interfaces,

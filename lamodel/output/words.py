@@ -256,3 +256,36 @@ def bound_words(summary) -> list:
         return [f"Proven global minimum: collapse cannot occur below {low:.6g} under this load pattern "
                 f"(alpha = {float(row['alpha']):.6g})."]
     return [f"Collapse cannot occur below {low:.6g} under this load pattern (a proven lower bound)."]
+
+
+def stall_joints(structure, rows) -> list:
+    """The joints (planar contacts, or interfaces in space) of the search's rows ``rows``:
+    4 rows a contact in the plane, 2 a contact point in space, type by type."""
+    rows = np.asarray(rows, dtype=int)
+    if getattr(structure, "dimension", 2) == 3:
+        faces = structure.point_interface[rows % len(structure.point_interface)]
+        return [structure.interfaces[k] for k in dict.fromkeys(faces.tolist())]
+    return [structure.contacts[k] for k in dict.fromkeys((rows % structure.n_contacts).tolist())]
+
+
+def stall_columns(stalled) -> dict:
+    """summary.csv's ``alpha_stalled`` and ``gap_stalled`` (NaN: something was certified, or
+    the search made no step): the alpha of the statics nearest a collapse state the search
+    reached, and its relative complementarity gap ``(alpha_K - alpha) / alpha_K``."""
+    if stalled is None:
+        return {"alpha_stalled": np.nan, "gap_stalled": np.nan}
+    return {"alpha_stalled": stalled[0] + 0.0, "gap_stalled": stalled[2] + 0.0}
+
+
+def stall_words(structure, stalled, shown: int = 8) -> list:
+    """Where a search that certified nothing came nearest a collapse state, in words."""
+    if stalled is None:
+        return []
+    alpha, alpha_k, rel, rows = stalled
+    joints = stall_joints(structure, rows)
+    held = (f"; the joints that hold the gap (its mechanism flows there, the statics keeps them slack): "
+            f"{', '.join(map(str, joints[:shown]))}{', ...' if len(joints) > shown else ''} ({len(joints)})"
+            if joints else "")
+    return [f"Nearest a collapse state, not certified: a statics at alpha = {alpha:.6g} whose mechanism "
+            f"(the fictitious system's) gives alpha_K = {alpha_k:.6g}, a gap of {100 * rel:.3g} %{held}. "
+            "It is no answer: an uncertified number is never reported as alpha."]

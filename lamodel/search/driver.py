@@ -98,6 +98,9 @@ class Outcome:
     lps_first: int = 0                              # LP solves of the first phase (the stopping rule's unit)
     work: int = 0                                   # LP work of the search (HighsLP.work: iterations x rows)
     certification_lps: int = 0                      # in space: the certification LPs among the solves
+    #: nothing certified: (alpha, alpha_K, relative gap, rows holding it) of the search's
+    #: step nearest a collapse state (Record.stall); None otherwise
+    stalled: tuple | None = None
 
     @property
     def certified(self) -> bool:
@@ -191,7 +194,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
                    phases=dict(record.phases) if record is not None else {},
                    history=list(record.history) if record is not None else [],
                    lps_first=work.get("first", 0), work=engine.starts.work() if engine is not None else 0,
-                   certification_lps=getattr(engine.problem, "n_lp", 0) if engine is not None else 0)
+                   certification_lps=getattr(engine.problem, "n_lp", 0) if engine is not None else 0,
+                   stalled=record.stall if record is not None and best is None and status != UNSTABLE else None)
 
 
 # ------------------------------------------------------------------------ the search

@@ -45,6 +45,7 @@ class Result3D:
     methods: dict = field(default_factory=dict)   # method -> {"raw", "certified", "own", "own_path", "seconds"}
     n_cone: int = 0                  # program solves (cone programs and certification LPs)
     n_lp: int = 0                    # of which certification LPs
+    stalled: tuple | None = None     # nothing certified: the step nearest a collapse state (driver.Outcome)
 
     alpha = property(lambda self: np.nan if self.state is None else self.state.alpha,
                      doc="The certified multiplier (NaN: none).")
@@ -92,7 +93,7 @@ def _searched(structure, opt, stop, on_associative=None) -> Result3D:
     r = Result3D(out.status, best, out.alpha_associative, out.message,
                  *out.first, associative_time=out.phases.get("associative", np.nan), seconds=out.wall_time_s,
                  history=[h[:3] for h in out.history],
-                 n_cone=run.iterations if run is not None else 0, n_lp=out.certification_lps)
+                 n_cone=run.iterations if run is not None else 0, n_lp=out.certification_lps, stalled=out.stalled)
     # its path as summary.csv gives it: how the state was found and certified
     r.methods["lamodel"] = {"raw": alpha, "certified": alpha, "own": alpha, "own_path": r.path,
                             "seconds": run.seconds if run is not None else out.wall_time_s}

@@ -69,6 +69,8 @@ class Alternation:
                     gap = p.gap(x, xi, u)
                     tight = p.active_rows(x, ACTIVE_TOLERANCES[0])
                     slack_flow = (xi > 0) & ~tight & real
+                    if real:
+                        self.record.note_gap(alpha, gap, np.flatnonzero(slack_flow))
                     self._near(u, xi, tight, slack_flow, source, found)
                     if slack_flow.any() and gap <= GAP_HOLD * max(1.0, alpha) and not forbid_slack:
                         # Hold step. Near convergence the least-alpha_K mechanism flows, a

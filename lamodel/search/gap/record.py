@@ -29,6 +29,9 @@ class Record:
         self.first = None                           # (alpha, seconds) of the first certificate
         self.history = []                           # (seconds, alpha, source, LP solves) of each improvement
         self.phases = {}                            # seconds per phase
+        #: (alpha, alpha_K, relative gap, rows holding it) of the alternation step nearest a
+        #: collapse state: what a search that certifies nothing reports, never as its answer
+        self.stall = None
 
     def phase(self, name, t, step=False):
         """Add the time since ``t`` (perf_counter) to phase ``name``, a phase or lane that
@@ -40,6 +43,15 @@ class Record:
         if log.isEnabledFor(level):
             log.log(level, "%s: %.2f s, %d LP solves so far, best certified alpha %s", name, seconds,
                     self.problem.n_lps(), f"{self.best.alpha:.6f}" if self.best is not None else "none")
+
+    def note_gap(self, alpha: float, gap: float, rows):
+        """An alternation step: its statics' alpha, the gap ``alpha_K - alpha`` of its
+        mechanism, the rows that hold the gap (flows on rows the statics keeps slack). The
+        step with the least relative gap ``(alpha_K - alpha) / alpha_K`` is kept."""
+        alpha_k = alpha + max(gap, 0.0)
+        rel = max(gap, 0.0) / max(abs(alpha_k), 1e-300)
+        if self.stall is None or rel < self.stall[2]:
+            self.stall = (float(alpha), float(alpha_k), float(rel), rows)
 
     def alpha(self) -> float:
         """The best certified alpha (inf if none)."""
