@@ -339,3 +339,8 @@ DEAD_LOAD_REST = 1e-6
 #: (each a cone program, the previous ones' blocks held fixed). Measured on compas_cra's Armadillo
 #: at tolerance 1e-6: 28 blocks from 14 mechanisms, 2.5 s; at 1e-5: 10 blocks.
 DEAD_LOAD_ROUNDS = 20
+
+# ============================================== single-block mechanisms (search/gap/single.py)
+#: Blocks of least own multiplier tried as mechanisms of that block alone, and the sides of
+#: the polygon inscribed in the cone that ranks them in space (a ranking, not a certificate).
+SINGLE_BLOCKS, SINGLE_BLOCK_FACETS = 4, 8
