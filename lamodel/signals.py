@@ -137,6 +137,10 @@ class _Watcher:
     def arm(self, signum):
         os.write(self._write, bytes([128 + signum]))
 
+    def disarm(self):
+        """The run ended on its own (its command returned): no end at once any more."""
+        os.write(self._write, bytes([0]))
+
     def _run(self):
         end, first = None, None
         while True:
@@ -144,12 +148,17 @@ class _Watcher:
             if not select.select([self._read], [], [], wait)[0]:
                 _end_at_once(first)
             byte = os.read(self._read, 1)[0]
-            if byte >= 128:
+            if byte == 0:
+                end = None
+            elif byte >= 128:
                 if end is None:
                     end, first = time.monotonic() + GRACE, byte - 128
             else:
                 time.sleep(RETRY)
-                _thread.interrupt_main(byte)
+                if signal.getsignal(byte) is _on_signal:  # not once lamodel's handler is gone
+                    _thread.interrupt_main(byte)
+                else:
+                    _state["echo"] = max(0, _state["echo"] - 1)
 
 
 def _end_at_once(signum):
@@ -200,6 +209,7 @@ def unwatch_signals(old: dict):
         signal.signal(sig, handler)
     if old:
         _state["watching"] = False
+        _Watcher.get().disarm()
 
 
 def catch_sigint(on_sigint):

@@ -75,3 +75,24 @@ def test_a_run_that_outlives_the_grace_removes_its_staging_folder_and_ends(tmp_p
     assert r.returncode == 143 and "still here" not in r.stdout, (r.returncode, r.stdout, r.stderr)
     assert "did not end within 0.5 s of the stop signal" in r.stderr
     assert not stage.exists()
+
+
+def test_a_command_that_returned_is_not_ended_later_by_the_grace():
+    """In a program that runs lamodel's command line in-process (a test runner, a notebook),
+    a Ctrl-C the command handled must not end the program GRACE seconds later."""
+    r = run("""
+        import os, signal, time
+        from lamodel import signals
+        signals.GRACE = 0.3
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        old = signals.watch_signals()
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(5)
+        except KeyboardInterrupt:
+            pass
+        signals.unwatch_signals(old)
+        time.sleep(1.0)
+        print("still here")
+    """)
+    assert r.returncode == 0 and r.stdout.strip() == "still here", (r.returncode, r.stdout, r.stderr)
