@@ -30,7 +30,7 @@ def run(structure):
     engine = GapSearch(structure)
     status, x = engine.problem.statics(maximize=True)  # the associative statics
     assert status == "optimal"
-    return engine, single_blocks(engine.problem, engine.certifier, engine.descent, x)
+    return engine, single_blocks(engine.problem, engine.certifier, x)
 
 
 @pytest.mark.parametrize("degrees", [0.0, 45.0, 120.0])
