@@ -2,6 +2,7 @@
 that lands in importlib's own code is delivered again outside it, never raised there; a
 search's stop is called instead of raising; a run that outlives the grace is ended."""
 import os
+import signal
 import subprocess
 import sys
 import textwrap
@@ -9,10 +10,17 @@ import textwrap
 from conftest import ROOT
 
 
+def _as_a_terminal_starts_it():
+    """The stop signals at their defaults (a runner may start the tests with some ignored:
+    ``nohup`` ignores SIGHUP, a shell's background job SIGINT, and children inherit that)."""
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(sig, signal.SIG_DFL)
+
+
 def run(code, timeout=60):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, env=env,
-                          timeout=timeout)
+                          timeout=timeout, preexec_fn=_as_a_terminal_starts_it)
 
 
 def test_a_signal_in_importlibs_code_is_raised_only_once_it_is_left():
