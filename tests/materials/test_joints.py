@@ -1,0 +1,144 @@
+"""Joints with strengths in the plane: crushing, cohesion, tension (lamodel.formulation.joints).
+
+Closed forms of one B x H block (thickness b) on the ground, its weight W at the centroid
+and the horizontal live load alpha W there; every reported state re-checked by the oracle
+against the stress block itself (not lamodel's polygon).
+"""
+import dataclasses
+
+import numpy as np
+import pytest
+
+from conftest import INSTANCES, rect
+from oracle import check_state, stress_block_moment
+from lamodel.formulation.joints import facets, fractions, moment_capacity, relative_error_bound
+from lamodel.formulation.matrices import Formulation, flow_matrix, strength_rows, yield_matrix
+from lamodel.io.datfile import read_dat
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.search.driver import SolveOptions, solve
+from lamodel.search.gap import formulation_of
+from lamodel.search.gap.problem import ScaledProblem
+from lamodel.search.gap.strengths import StrengthProblem
+from lamodel.search.tuning import CRUSHING_FACETS, CRUSHING_FLOOR
+
+B, H = 2.0, 3.0
+EPS = relative_error_bound(CRUSHING_FACETS)
+
+
+def block(**strengths):
+    """The 2 x 3 block (W = 6, unit weight, thickness 1) on the ground, with strengths."""
+    s = structure_from_json({"name": "block", "mu": 5.0, "blocks": [
+        {"id": "a", "vertices": rect(0, 0, B, H)},
+        {"id": "ground", "support": True, "vertices": rect(-1, -1, 3, 0)}]})
+    return dataclasses.replace(s, **{k: np.full(s.n_contacts, float(v)) for k, v in strengths.items()})
+
+
+def solved(s):
+    out = solve(s, SolveOptions(workers=1, starts=0))
+    assert out.best is not None, out.message
+    check_state(s, out.best)
+    return out.best.alpha
+
+
+# ============================================================================ the domain
+@pytest.mark.parametrize("fc, ft", [(5.0, 0.0), (5.0, 0.4), (80.0, 1.0)])
+def test_polygon_is_inscribed_within_its_bound(fc, ft):
+    """Vertices on the stress block's parabola, the chords inside it, the loss at every N
+    at most the stated bound (and at most the fraction x near the tension end)."""
+    d, b = 0.7, 1.3
+    a, beta = facets(d, b, fc, ft, CRUSHING_FACETS, CRUSHING_FLOOR)
+    Nt, Nc = 2 * d * b * ft, -2 * d * b * fc
+    x = np.concatenate([np.geomspace(1e-6, 1e-2, 2000), np.linspace(1e-2, 1, 20001)])[:-1]
+    N = Nt + (Nc - Nt) * x
+    polygon = np.min(beta[:, None] - a[:, None] * N[None, :], axis=0)
+    exact = moment_capacity(N, d, b, fc, ft)
+    assert np.allclose(exact, [stress_block_moment(n, d, b, fc, ft) for n in N], rtol=1e-12)
+    loss = 1 - polygon / exact
+    assert loss.min() >= -1e-9                                       # inscribed
+    assert loss.max() <= EPS * (1 + 1e-9)                            # the stated bound
+    assert np.all(loss <= relative_error_bound(CRUSHING_FACETS, CRUSHING_FLOOR, x) + 1e-9)
+    assert EPS == pytest.approx(np.sin(np.pi / (2 * CRUSHING_FACETS)) ** 2)
+    assert len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR)) - 1 == len(a)
+
+
+def test_infinite_strength_is_the_cone_of_eq4_shifted_by_the_tension():
+    a, beta = facets(0.5, 2.0, np.inf, 0.3, CRUSHING_FACETS, CRUSHING_FLOOR)
+    assert a.tolist() == [0.5] and beta[0] == pytest.approx(0.5 * 2 * 0.5 * 2.0 * 0.3)
+
+
+def test_dry_joints_keep_the_lps_of_eq4():
+    """f_c = inf, c0 = f_t = 0: the structure has no materials, the planar program is the
+    generator form's and its matrices are eq. (4)'s, entry for entry."""
+    s = read_dat(INSTANCES / "arch.dat")
+    assert not s.has_materials and formulation_of(s) is ScaledProblem
+    form = Formulation.of(s)
+    assert form.b is None and (form.Y != yield_matrix(s)).nnz == 0 and (form.G != flow_matrix(s)).nnz == 0
+    # the strength rows of a joint with no strength are those rows, with b = 0
+    Y, G, b = strength_rows(s)
+    assert (Y != yield_matrix(s)).nnz == 0 and (G != flow_matrix(s)).nnz == 0 and not b.any()
+    assert formulation_of(block(fc=10)) is StrengthProblem
+
+
+# ======================================================================= closed forms
+@pytest.mark.parametrize("fc", [100.0, 10.0, 4.0])
+def test_block_crushing(fc):
+    """alpha = (B/2 - W / (2 f_c b)) / (H/2) for the parabola; the polygon's at most
+    EPS below it (the moment capacity at N = -W)."""
+    W = 6.0
+    exact = (B / 2 - W / (2 * fc)) / (H / 2)
+    alpha = solved(block(fc=fc))
+    assert exact * (1 - EPS) - 1e-9 <= alpha <= exact + 1e-9
+
+
+def test_block_with_a_huge_strength_tends_to_b_over_h():
+    assert solved(block(fc=1e9)) == pytest.approx(B / H, rel=1e-6)
+
+
+def test_block_that_crushes_under_its_own_weight():
+    out = solve(block(fc=2.9), SolveOptions(workers=1, starts=0))   # W = 6 > B b f_c = 5.8
+    assert out.status == "unstable" and out.best is None
+    assert "crush" in out.message and "fc" in out.message
+
+
+def test_glued_block_slides_at_mu_plus_cohesion():
+    """A glued block slides at alpha = mu + c0 B b / W (overturning needs B/H = 0.667)."""
+    s = dataclasses.replace(block(cohesion=0.1), mu=np.full(1, 0.3))
+    assert solved(s) == pytest.approx(0.3 + 0.1 * B / 6.0, rel=1e-9)
+
+
+@pytest.mark.parametrize("fc, ft", [(np.inf, 0.5), (20.0, 0.5), (20.0, 2.0)])
+def test_block_overturning_with_tensile_strength(fc, ft):
+    """Stress blocks at the base (thickness b = 1): compression f_c over a depth y at the
+    toe, tension f_t over the rest, N = -W: f_c y - f_t (B - y) = W, so
+    y = (W + f_t B) / (f_c + f_t), and the moment about the base's centre is
+    (f_c + f_t) y (B - y) / 2 (f_c = inf: (W + f_t B) B / 2, all the compression at the toe).
+    Overturning: alpha W H / 2 = that moment. Cohesion keeps it from sliding."""
+    W = 6.0
+    if np.isinf(fc):
+        moment = (W + ft * B) * B / 2
+    else:
+        y = (W + ft * B) / (fc + ft)
+        moment = (fc + ft) * y * (B - y) / 2
+    exact = moment / (W * H / 2)
+    alpha = solved(block(fc=fc, ft=ft, cohesion=5.0))
+    assert exact * (1 - EPS) - 1e-9 <= alpha <= exact + 1e-9
+    if np.isinf(fc):
+        assert alpha == pytest.approx(exact, rel=1e-9)
+
+
+# ============================================================== the seed's structures
+@pytest.mark.parametrize("name", ["arch", "portal"])
+def test_huge_strength_gives_eq4_back(name):
+    """f_c = 1e9 on every joint: the polygon's LPs give the dry joints' alpha (the polygon
+    loses at most max(N / N_c, floor) there)."""
+    s = read_dat(INSTANCES / f"{name}.dat")
+    dry = solved(s)
+    assert solved(dataclasses.replace(s, fc=np.full(s.n_contacts, 1e9))) == pytest.approx(dry, rel=1e-6)
+
+
+def test_arch_alpha_falls_with_the_compressive_strength():
+    s = read_dat(INSTANCES / "arch.dat")
+    alphas = [solved(s)] + [solved(dataclasses.replace(s, fc=np.full(s.n_contacts, fc))) for fc in (40.0, 25.0, 15.0)]
+    assert all(b < a for a, b in zip(alphas, alphas[1:])), alphas
+    out = solve(dataclasses.replace(s, fc=np.full(s.n_contacts, 10.0)), SolveOptions(workers=1, starts=0))
+    assert out.status == "unstable" and "crush" in out.message
