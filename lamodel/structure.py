@@ -40,6 +40,8 @@ CONTACT_PARAMS = ("block_a", "block_b", "cx", "cy", "nx", "ny", "d", "mu")
 #: The joint's strengths (:mod:`lamodel.formulation.joints`) and their defaults: the dry,
 #: infinitely strong joint of eq. (4), out-of-plane thickness 1.
 JOINT_DEFAULTS = {"fc": np.inf, "ft": 0.0, "cohesion": 0.0, "thickness": 1.0}
+#: Their names: optional per-contact parameters of the .dat files and fields of the JSON ones.
+STRENGTH_PARAMS = tuple(JOINT_DEFAULTS)
 
 #: Yield rows of eq. (4), in the order used for the flow multipliers xi (4 per contact):
 #: sliding forward, sliding backward, hinging on one edge, hinging on the other.
