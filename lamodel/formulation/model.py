@@ -35,6 +35,7 @@ from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Const
                            Objective, Param, Reals, Set, Var, minimize, inequality)
 
 from ..solvers import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt') for the users of the model
+from ..errors import InputError
 from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, YIELD_ROWS, Structure
 from .matrices import Formulation, xi_bounds
 
@@ -277,13 +278,16 @@ def create_abstract_model() -> AbstractModel:
 
 
 def create_model(structure: Structure, objective: bool = True, xi_factor: float = 100.0) -> ConcreteModel:
-    """The model of a Structure, ready to solve."""
-    return declare_limit_analysis(ConcreteModel(name=structure.name), structure.validate(), objective, xi_factor)
+    """The model of a Structure, ready to solve (dry joints: eq. 4)."""
+    return declare_limit_analysis(ConcreteModel(name=structure.name), _structure(structure), objective, xi_factor)
 
 
 def _structure(value):
     if not isinstance(value, Structure):
         raise TypeError(f"expected a lamodel Structure, got {type(value).__name__}")
+    if value.has_materials:  # never a dry model of a structure whose joints crush or stick
+        raise InputError(f"structure '{value.name}': the Pyomo model of eq. (5) knows dry joints only; "
+                         "expected no fc, ft or cohesion (lamodel.search.driver.solve takes them)")
     return value.validate()
 
 

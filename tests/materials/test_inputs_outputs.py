@@ -133,3 +133,23 @@ def test_modes_of_a_crushed_joint():
     modes = classify(d, opening=[0.5, 0.5, 2.0, -0.1], slip=[0, 1, 0, 0], rotation=[1, 1, 1, 0])
     assert modes == ["crushing", "crushing+sliding", "open", "crushing"]
     assert classify(d[:1], [1.0], [0.0], [1.0]) == ["hinging"]
+
+
+# ================================================================================ study
+def test_study_varies_the_compressive_strength():
+    from lamodel.parametric import study_from_dict, variant_structure
+    s = read_dat(INSTANCES / "arch.dat")
+    study = study_from_dict({"name": "arch_fc", "vary": {"fc": [40, 20]}}, s, where="spec")
+    params = study.variants()
+    assert [p["fc"] for p in params] == [40, 20]
+    variant, _ = variant_structure(study, params[1], np.random.default_rng(0))
+    assert np.all(variant.fc == 20) and not s.has_materials
+    with pytest.raises(InputError, match="vary.fc has -1; expected compressive strengths > 0"):
+        study_from_dict({"name": "x", "vary": {"fc": [10, -1]}}, s, where="spec")
+
+
+def test_the_pyomo_model_refuses_strengths():
+    from lamodel.formulation.model import create_model
+    s = structure_from_json(spec(cohesion=0.1))
+    with pytest.raises(InputError, match="dry joints only"):
+        create_model(s)

@@ -142,3 +142,30 @@ def test_arch_alpha_falls_with_the_compressive_strength():
     assert all(b < a for a, b in zip(alphas, alphas[1:])), alphas
     out = solve(dataclasses.replace(s, fc=np.full(s.n_contacts, 10.0)), SolveOptions(workers=1, starts=0))
     assert out.status == "unstable" and "crush" in out.message
+
+
+@pytest.mark.parametrize("name, alpha", [("wall33", 0.638982), ("wall55", 0.557416)])
+def test_strength_lps_give_table1_back(name, alpha):
+    """Table 1's walls: dry, on eq. (4)'s LPs, and with a negligible cohesion, on the
+    strength LPs (explicit slacks, the fictitious LP's rows as rows): the same alpha."""
+    s = read_dat(INSTANCES / f"{name}.dat")
+    assert solved(s) == pytest.approx(alpha, abs=1e-6)
+    glued = dataclasses.replace(s, cohesion=np.full(s.n_contacts, 1e-14))
+    assert formulation_of(glued) is StrengthProblem
+    assert solved(glued) == pytest.approx(alpha, abs=1e-6)
+
+
+def test_arch_hinges_move_inward_as_fc_falls():
+    """With a finite f_c no hinge sits at an edge: each crushes over the depth of its
+    stress block, which grows as f_c falls."""
+    from lamodel.output.modes import modes_from_flow
+    s = read_dat(INSTANCES / "arch.dat")
+    depths = []
+    for fc in (40.0, 20.0):
+        sf = dataclasses.replace(s, fc=np.full(s.n_contacts, fc))
+        best = solve(sf, SolveOptions(workers=1, starts=0)).best
+        modes = modes_from_flow(sf, best.xi)
+        assert "hinging" not in modes and "crushing" in modes
+        crushed = [k for k, m in enumerate(modes) if m.startswith("crushing")]
+        depths.append(max(-best.N[k] / (sf.thickness[k] * fc) for k in crushed))
+    assert depths[1] > depths[0]
