@@ -169,3 +169,25 @@ def test_arch_hinges_move_inward_as_fc_falls():
         crushed = [k for k, m in enumerate(modes) if m.startswith("crushing")]
         depths.append(max(-best.N[k] / (sf.thickness[k] * fc) for k in crushed))
     assert depths[1] > depths[0]
+
+
+def test_units_scale_the_stresses():
+    """Lengths x 10 and a unit weight of 3: forces x 300, stresses x 3; alpha the same
+    (metamorphic: the strengths convert like every other number)."""
+    def scaled_block(L, unit_weight, fc, ft, c0):
+        s = structure_from_json({"name": "block", "mu": 0.4, "unit_weight": unit_weight, "blocks": [
+            {"id": "a", "vertices": rect(0, 0, B * L, H * L)},
+            {"id": "ground", "support": True, "vertices": rect(-L, -L, 3 * L, 0)}]})
+        return dataclasses.replace(s, fc=np.full(1, fc), ft=np.full(1, ft), cohesion=np.full(1, c0),
+                                   thickness=np.full(1, L))
+    one = solved(scaled_block(1.0, 1.0, 12.0, 0.5, 0.3))
+    assert solved(scaled_block(10.0, 3.0, 36.0, 1.5, 0.9)) == pytest.approx(one, rel=1e-9)
+
+
+def test_mirror_gives_the_same_alpha():
+    s = block(fc=10.0, ft=0.5, cohesion=1.0)
+    mirror = structure_from_json({"name": "mirror", "mu": 5.0, "blocks": [
+        {"id": "a", "vertices": rect(-B, 0, 0, H)},
+        {"id": "ground", "support": True, "vertices": rect(-3, -1, 1, 0)}], "live_load": [-1.0, 0.0]})
+    mirror = dataclasses.replace(mirror, fc=np.full(1, 10.0), ft=np.full(1, 0.5), cohesion=np.full(1, 1.0))
+    assert solved(mirror) == pytest.approx(solved(s), rel=1e-9)
