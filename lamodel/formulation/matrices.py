@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..search.tuning import CRUSHING_FACETS, CRUSHING_FLOOR
-from ..structure import Structure
+from ..structure import YIELD_ROWS, Structure
 from .joints import facets, fractions
 
 
@@ -115,6 +115,16 @@ def joint_facets(s: Structure):
         ak, bk = facets(s.d[k], s.thickness[k], s.fc[k], s.ft[k], CRUSHING_FACETS, CRUSHING_FLOOR)
         a[:, k], beta[:, k] = np.resize(ak, m), np.resize(bk, m)
     return np.vstack([a, a]), np.vstack([beta, beta])
+
+
+def row_names(s: Structure) -> tuple:
+    """The kinds of yield rows, a block of nc rows each: eq. (4)'s ``YIELD_ROWS``, or with
+    the joints' strengths slide+, slide-, then the facets of :func:`joint_facets`, lower
+    (``crush-1`` at the tension end .. ``crush-m``) and upper (``crush+1`` ..)."""
+    if not s.has_materials:
+        return YIELD_ROWS
+    m = facets_per_half(s)
+    return ("slide+", "slide-", *(f"crush-{j + 1}" for j in range(m)), *(f"crush+{j + 1}" for j in range(m)))
 
 
 def joint_area(s: Structure) -> np.ndarray:
@@ -234,8 +244,8 @@ def xi_bounds(s: Structure, factor: float = 100.0) -> np.ndarray:
         mag = np.abs(s.live_m) / s.size()
     U = 1.0 / mag[mag > 0].min()
     slide = np.full(s.n_contacts, factor * U)
-    hinge = factor * U / s.d
-    return np.concatenate([slide, slide, hinge, hinge])
+    hinge = factor * U / s.d  # the N-M facets of joints with strengths flow rotations too
+    return np.concatenate([slide, slide] + [hinge] * (len(row_names(s)) - 2))
 
 
 def kinematic_multiplier(f0, mu, u, xi, N, b=None) -> float:

@@ -147,9 +147,3 @@ def test_study_varies_the_compressive_strength():
     with pytest.raises(InputError, match="vary.fc has -1; expected compressive strengths > 0"):
         study_from_dict({"name": "x", "vary": {"fc": [10, -1]}}, s, where="spec")
 
-
-def test_the_pyomo_model_refuses_strengths():
-    from lamodel.formulation.model import create_model
-    s = structure_from_json(spec(cohesion=0.1))
-    with pytest.raises(InputError, match="dry joints only"):
-        create_model(s)

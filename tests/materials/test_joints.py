@@ -191,3 +191,36 @@ def test_mirror_gives_the_same_alpha():
         {"id": "ground", "support": True, "vertices": rect(-3, -1, 1, 0)}], "live_load": [-1.0, 0.0]})
     mirror = dataclasses.replace(mirror, fc=np.full(1, 10.0), ft=np.full(1, 0.5), cohesion=np.full(1, 1.0))
     assert solved(mirror) == pytest.approx(solved(s), rel=1e-9)
+
+
+@pytest.mark.parametrize("strengths", [dict(fc=10.0), dict(fc=20.0, ft=0.5, cohesion=5.0), dict(cohesion=0.1)])
+def test_pyomo_model_holds_the_certified_state(strengths):
+    """create_model with the joints' strengths: the certified state satisfies every
+    constraint (eq. 1-5 with Y s_f <= b and alpha_K's xi b), and alpha_K = alpha."""
+    from pyomo.environ import Constraint, value
+    from lamodel.formulation.model import create_model, get_state, kinematic_multiplier, set_state
+    s = block(**strengths)
+    if "cohesion" in strengths and len(strengths) == 1:
+        s = dataclasses.replace(s, mu=np.full(1, 0.3))
+    best = solve(s, SolveOptions(workers=1, starts=0)).best
+    m = create_model(s)
+    assert len(m.ROWS) == len(best.xi) // s.n_contacts
+    set_state(m, s, best.N, best.V, best.M, best.alpha, best.u, best.xi)
+    worst = 0.0
+    for c in m.component_data_objects(Constraint, active=True):
+        body = value(c.body)
+        lo = -np.inf if c.lower is None else value(c.lower)
+        hi = np.inf if c.upper is None else value(c.upper)
+        worst = max(worst, lo - body, body - hi)
+    assert worst <= 1e-8
+    assert value(kinematic_multiplier(m)) == pytest.approx(best.alpha, abs=1e-9)
+    assert np.allclose(get_state(m, s)[5], best.xi)
+
+
+def test_ipopt_solves_the_model_with_crushing():
+    from pyomo.environ import SolverFactory, value
+    from lamodel.formulation.model import create_model
+    s = block(fc=10.0)
+    m = create_model(s)
+    assert str(SolverFactory("lamodel_ipopt").solve(m).solver.termination_condition) == "optimal"
+    assert value(m.alpha) == pytest.approx(solved(s), abs=1e-4)
