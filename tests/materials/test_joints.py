@@ -224,3 +224,23 @@ def test_ipopt_solves_the_model_with_crushing():
     m = create_model(s)
     assert str(SolverFactory("lamodel_ipopt").solve(m).solver.termination_condition) == "optimal"
     assert value(m.alpha) == pytest.approx(solved(s), abs=1e-4)
+
+
+@pytest.mark.parametrize("case", ["rotated 0.7 rad", "all at once"])
+def test_arch_with_strengths_is_frame_free(case):
+    """The metamorphic cases of the dry search (other units, turned, moved, mirrored,
+    renumbered) with crushing and mortar: stresses convert as force / length^2, the
+    thickness as a length; alpha the same."""
+    from search.test_metamorphic import CASES as FRAMES, transform_spec
+    from lamodel.geometry import arch
+    spec = arch(9, 5.0, 1.5, impost_height=2.0, impost_width=2.5, name="arch9")
+    strengths = dict(fc=20.0, ft=0.02, cohesion=0.05, thickness=1.0)
+    base = solved(structure_from_json(dict(spec, **strengths)))
+    assert base < solved(structure_from_json(spec))                       # the strengths matter
+    kw = dict(FRAMES[case])
+    if kw.get("perm") == "random":
+        kw["perm"] = np.random.default_rng(5).permutation(len(spec["blocks"]))
+    F, L = kw.get("force", 1.0), kw.get("length", 1.0)
+    moved = transform_spec(spec, **kw)
+    moved.update(fc=20.0 * F / L**2, ft=0.02 * F / L**2, cohesion=0.05 * F / L**2, thickness=L)
+    assert solved(structure_from_json(moved)) == pytest.approx(base, rel=1e-6)
