@@ -23,8 +23,11 @@ most y): as f_c grows the polygon tends to the cone of eq. (4), as the parabola 
 (:func:`relative_error_bound`; m and the floor:
 :data:`~lamodel.search.tuning.CRUSHING_FACETS`, ``CRUSHING_FLOOR``). The polygon lies
 inside the parabola: every statics admissible for it is admissible for the stress block
-(no stress beyond f_c or f_t), and with associative joints its alpha is at most the
-parabola's (static theorem) and at least that of the domain shrunk by ``1 - eps``. Every reported alpha is
+(no stress beyond f_c or f_t; static side), its dissipation for any joint motion is at most
+the stress block's (kinematic side: every alpha_K at most the parabola's), and with
+associative joints its alpha is at most the parabola's (static theorem) and at least that
+of the domain shrunk by ``1 - eps``; with non-associative friction no alpha is monotone in
+the domain, and the polygonal joint's alpha is what is reported. Every reported alpha is
 exact for the polygonal joint.
 
 Rows of a joint, each ``a N + v V + s M <= beta`` with ``|s| = 1`` for the N-M facets
