@@ -361,8 +361,10 @@ ALIGN_CAP_ROWS = 2.0
 #: first chord): with f_c = 1e9 the arch, the portal and wall33 came out 0.7% low
 #: (0.245837 for 0.247538, 0.637335 for 0.638982). Below the grid's first vertex the
 #: fractions go down by 4 to CRUSHING_FLOOR (9 more facets): the loss at fraction x is at
-#: most max(x, floor), so f_c -> inf gives eq. (4)'s alpha back to the floor. Each facet is a
-#: row of the statics and of the fictitious LP: 2 + 2 (16 + 9) = 52 rows a contact against 4.
-#: The floor: well above round-off (facets whose slopes differ by less tell HiGHS little).
+#: most max(x, floor), so f_c -> inf gives eq. (4)'s alpha back to the floor: with f_c = 1e9
+#: the arch, portals and Table 1's walls give their dry alpha to 1e-6 (benchmarks/materials.py).
+#: Each facet is a row of the statics and of the fictitious LP: 2 + 2 (16 + 9) = 52 rows a
+#: contact against 4. The floor: above the LP tolerance (1e-9), so that neighbouring facets
+#: near the tension end stay distinct rows to HiGHS.
 CRUSHING_FACETS = 16
 CRUSHING_FLOOR = 1e-7
