@@ -244,3 +244,32 @@ def test_arch_with_strengths_is_frame_free(case):
     moved = transform_spec(spec, **kw)
     moved.update(fc=20.0 * F / L**2, ft=0.02 * F / L**2, cohesion=0.05 * F / L**2, thickness=L)
     assert solved(structure_from_json(moved)) == pytest.approx(base, rel=1e-6)
+
+
+def least_thickness(fc=None, n=40):
+    """The least t / R at which a semicircular arch of n voussoirs (centre-line radius R =
+    1, unit weight, thickness b = 1, mu = 10) stands under its own weight on skewbacks:
+    bisection on the statics LP (some statics at alpha = 0)."""
+    from lamodel.geometry import arch
+
+    def stands(t):
+        s = structure_from_json(arch(n, 1.0 - t / 2, t, impost_height=0, mu=10.0))
+        if fc is not None:
+            s = dataclasses.replace(s, fc=np.full(s.n_contacts, fc))
+        p = formulation_of(s)(s)
+        status, x = p.statics()
+        return status == "optimal" and x[-1] <= p.stable_alpha
+    lo, hi = 0.05, 0.3
+    for _ in range(16):
+        lo, hi = (lo, (lo + hi) / 2) if stands((lo + hi) / 2) else ((lo + hi) / 2, hi)
+    return hi
+
+
+def test_heyman_least_thickness_grows_as_fc_falls():
+    """Dry, the least thickness of a semicircular arch tends to Heyman's t/R = 0.1075 (from
+    below: 40 voussoirs give 0.10743); with f_c = 1e9 the same; as f_c falls it grows."""
+    dry = least_thickness()
+    assert 0.1070 < dry < 0.1076
+    assert least_thickness(1e9) == pytest.approx(dry, abs=1e-4)
+    needed = [least_thickness(fc) for fc in (100.0, 20.0, 5.0)]
+    assert dry < needed[0] < needed[1] < needed[2]
