@@ -26,8 +26,8 @@ import numpy as np
 
 from .assembly import Assembly
 from .errors import InputError
-from .validation import (check_ends, check_finite, check_friction, check_ids, check_live, check_strengths, check_touched,
-                         first)
+from .validation import (check_ends, check_finite, check_friction, check_ids, check_live, check_strengths,
+                         check_touched, first)
 
 #: Per-block and per-contact data, by the names of the Pyomo model's parameters and of the
 #: .dat files (:mod:`lamodel.io.datfile`, :mod:`lamodel.formulation.model`).

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..search.tuning import CRUSHING_FACETS, CRUSHING_FLOOR
+from ..search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FLOOR
 from ..structure import YIELD_ROWS, Structure
 from .joints import facets, fractions
 
@@ -101,7 +101,9 @@ def flow_matrix(s: Structure) -> sp.csr_matrix:
 def facets_per_half(s: Structure) -> int:
     """N-M facets a half of every joint's domain: one (the hinge rows of eq. 4, shifted by
     the tension) unless some joint crushes, then those of :func:`.joints.fractions`."""
-    return len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR)) - 1 if np.isfinite(s.fc).any() else 1
+    if not np.isfinite(s.fc).any():
+        return 1
+    return len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR, CRUSHING_FAN_RATIO)) - 1
 
 
 def joint_facets(s: Structure):
@@ -112,7 +114,8 @@ def joint_facets(s: Structure):
     m = facets_per_half(s)
     a, beta = np.empty((m, s.n_contacts)), np.empty((m, s.n_contacts))
     for k in range(s.n_contacts):
-        ak, bk = facets(s.d[k], s.thickness[k], s.fc[k], s.ft[k], CRUSHING_FACETS, CRUSHING_FLOOR)
+        ak, bk = facets(s.d[k], s.thickness[k], s.fc[k], s.ft[k], CRUSHING_FACETS, CRUSHING_FLOOR,
+                        CRUSHING_FAN_RATIO)
         a[:, k], beta[:, k] = np.resize(ak, m), np.resize(bk, m)
     return np.vstack([a, a]), np.vstack([beta, beta])
 

@@ -16,8 +16,9 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
     mechanism are NaN: nothing uncertified is reported as a collapse multiplier.
 
     Beyond the contract: contacts.csv has the joints' strengths ``fc``, ``ft``,
-    ``cohesion``, ``thickness`` where the structure has some; blocks.csv has ``dead_m``, ``live_m`` (moments of the loads about
-    the centroid, e.g. of point loads, so that an external checker can rebuild eq. 1);
+    ``cohesion``, ``thickness`` where the structure has some; blocks.csv has ``dead_m``,
+    ``live_m`` (moments of the loads about the centroid, e.g. of point loads, so that an
+    external checker can rebuild eq. 1);
     summary.csv has ``length_unit``, ``force_unit`` ("-" when the input gave none),
     ``residual`` and ``residual_condition`` (the largest relative violation of the
     conditions of a collapse state by the reported one, at most 1e-7, and which condition)

@@ -359,12 +359,18 @@ ALIGN_CAP_ROWS = 2.0
 #: of the stress block's at every N, 0.96% at 16 (0.24% at 32), below the scatter of a
 #: masonry strength. Alone, the grid kept that 0.96% at small N / N_c whatever f_c (its
 #: first chord): with f_c = 1e9 the arch, the portal and wall33 came out 0.7% low
-#: (0.245837 for 0.247538, 0.637335 for 0.638982). Below the grid's first vertex the
-#: fractions go down by 4 to CRUSHING_FLOOR (9 more facets): the loss at fraction x is at
-#: most max(x, floor), so f_c -> inf gives eq. (4)'s alpha back to the floor: with f_c = 1e9
-#: the arch, portals and Table 1's walls give their dry alpha to 1e-6 (benchmarks/materials.py).
-#: Each facet is a row of the statics and of the fictitious LP: 2 + 2 (16 + 9) = 52 rows a
-#: contact against 4. The floor: above the LP tolerance (1e-9), so that neighbouring facets
-#: near the tension end stay distinct rows to HiGHS.
+#: (0.245837 for 0.247538, 0.637335 for 0.638982), and its blunt tip lets an open joint
+#: overlap at no cost. Below the grid's first vertex a fan of vertices goes down by
+#: CRUSHING_FAN_RATIO to CRUSHING_FLOOR: the loss at fraction x is then at most
+#: max((r - 1)^2 / (4 r) x / (1 - x), x_1), x_1 the smallest vertex fraction (1.5e-7
+#: here): f_c -> inf gives eq. (4) back. Measured (benchmarks/materials.py, f_c = 1e9 on wall33 and wall55,
+#: f_c = 4 on wall55): a fan by 4 to 1e-7 (9 facets) gave 0.638982 and 0.557416 but
+#: certified nothing at f_c = 4, in the default work bound or in 120 s (the search came
+#: within a gap of 1e-9 of a state whose mechanism also flowed on facets of the fan, nearly
+#: parallel, that the statics could not hold); by 4 to 1e-4 (3 facets) 0.639927, 0.562852
+#: (the tip still blunt) and 0.341784; by 16 to 1e-7 (4 facets) 0.638982, 0.557416 and
+#: 0.343088. Each facet is a row of the statics and of the fictitious LP: 2 + 2 (16 + 4) =
+#: 42 rows a contact against 4.
 CRUSHING_FACETS = 16
 CRUSHING_FLOOR = 1e-7
+CRUSHING_FAN_RATIO = 16.0

@@ -19,7 +19,7 @@ from lamodel.search.driver import SolveOptions, solve
 from lamodel.search.gap import formulation_of
 from lamodel.search.gap.problem import ScaledProblem
 from lamodel.search.gap.strengths import StrengthProblem
-from lamodel.search.tuning import CRUSHING_FACETS, CRUSHING_FLOOR
+from lamodel.search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FLOOR
 
 B, H = 2.0, 3.0
 EPS = relative_error_bound(CRUSHING_FACETS)
@@ -46,9 +46,9 @@ def test_polygon_is_inscribed_within_its_bound(fc, ft):
     """Vertices on the stress block's parabola, the chords inside it, the loss at every N
     at most the stated bound (and at most the fraction x near the tension end)."""
     d, b = 0.7, 1.3
-    a, beta = facets(d, b, fc, ft, CRUSHING_FACETS, CRUSHING_FLOOR)
+    a, beta = facets(d, b, fc, ft, CRUSHING_FACETS, CRUSHING_FLOOR, CRUSHING_FAN_RATIO)
     Nt, Nc = 2 * d * b * ft, -2 * d * b * fc
-    x = np.concatenate([np.geomspace(1e-6, 1e-2, 2000), np.linspace(1e-2, 1, 20001)])[:-1]
+    x = np.concatenate([np.geomspace(1e-9, 1e-2, 4000), np.linspace(1e-2, 1, 20001)])[:-1]
     N = Nt + (Nc - Nt) * x
     polygon = np.min(beta[:, None] - a[:, None] * N[None, :], axis=0)
     exact = moment_capacity(N, d, b, fc, ft)
@@ -56,13 +56,15 @@ def test_polygon_is_inscribed_within_its_bound(fc, ft):
     loss = 1 - polygon / exact
     assert loss.min() >= -1e-9                                       # inscribed
     assert loss.max() <= EPS * (1 + 1e-9)                            # the stated bound
-    assert np.all(loss <= relative_error_bound(CRUSHING_FACETS, CRUSHING_FLOOR, x) + 1e-9)
+    bound = relative_error_bound(CRUSHING_FACETS, CRUSHING_FLOOR, x, CRUSHING_FAN_RATIO)
+    assert np.all((loss - bound) * exact <= 1e-13)                        # moments: round-off only
+    assert bound[0] <= CRUSHING_FAN_RATIO * CRUSHING_FLOOR                # f_c -> inf: eq. (4)
     assert EPS == pytest.approx(np.sin(np.pi / (2 * CRUSHING_FACETS)) ** 2)
-    assert len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR)) - 1 == len(a)
+    assert len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR, CRUSHING_FAN_RATIO)) - 1 == len(a)
 
 
 def test_infinite_strength_is_the_cone_of_eq4_shifted_by_the_tension():
-    a, beta = facets(0.5, 2.0, np.inf, 0.3, CRUSHING_FACETS, CRUSHING_FLOOR)
+    a, beta = facets(0.5, 2.0, np.inf, 0.3, CRUSHING_FACETS, CRUSHING_FLOOR, CRUSHING_FAN_RATIO)
     assert a.tolist() == [0.5] and beta[0] == pytest.approx(0.5 * 2 * 0.5 * 2.0 * 0.3)
 
 
@@ -91,7 +93,10 @@ def test_block_crushing(fc):
 
 
 def test_block_with_a_huge_strength_tends_to_b_over_h():
-    assert solved(block(fc=1e9)) == pytest.approx(B / H, rel=1e-6)
+    """N / N_c = 3e-9: on the polygon's first chord, which loses at most its end fraction."""
+    loss = relative_error_bound(CRUSHING_FACETS, CRUSHING_FLOOR, 3e-9, CRUSHING_FAN_RATIO)
+    assert loss < CRUSHING_FAN_RATIO * CRUSHING_FLOOR
+    assert B / H * (1 - loss) - 1e-9 <= solved(block(fc=1e9)) <= B / H + 1e-9
 
 
 def test_block_that_crushes_under_its_own_weight():
@@ -129,11 +134,13 @@ def test_block_overturning_with_tensile_strength(fc, ft):
 # ============================================================== the seed's structures
 @pytest.mark.parametrize("name", ["arch", "portal"])
 def test_huge_strength_gives_eq4_back(name):
-    """f_c = 1e9 on every joint: the polygon's LPs give the dry joints' alpha (the polygon
-    loses at most max(N / N_c, floor) there)."""
+    """f_c = 1e9 on every joint: the polygon's LPs give the dry joints' alpha within the
+    moment the polygon loses there (its first chord: below CRUSHING_FAN_RATIO times
+    CRUSHING_FLOOR)."""
     s = read_dat(INSTANCES / f"{name}.dat")
     dry = solved(s)
-    assert solved(dataclasses.replace(s, fc=np.full(s.n_contacts, 1e9))) == pytest.approx(dry, rel=1e-6)
+    huge = solved(dataclasses.replace(s, fc=np.full(s.n_contacts, 1e9)))
+    assert huge == pytest.approx(dry, rel=CRUSHING_FAN_RATIO * CRUSHING_FLOOR)
 
 
 def test_arch_alpha_falls_with_the_compressive_strength():
