@@ -33,6 +33,20 @@ seconds = number(float, lambda v: 0 < v < float("inf"), "a number of seconds > 0
 tolerance = number(float, lambda v: 0 <= v < float("inf"), "a finite tolerance >= 0")
 
 
+#: A joint's strength (a stress, in the structure's force per length squared).
+strength = number(float, lambda v: 0 <= v < float("inf"), "a finite stress >= 0")
+#: A compressive strength.
+positive_strength = number(float, lambda v: 0 < v < float("inf"), "a finite stress > 0")
+
+
+def strength_arguments(a):
+    """The what-ifs on the joints' strengths (``a``: a parser's add_argument)."""
+    a("--fc", type=positive_strength, metavar="STRESS", help="compressive strength of every joint (crushing), in the "
+      "instance's force per length squared; replaces the file's")
+    a("--ft", type=strength, metavar="STRESS", help="tensile strength of every joint; replaces the file's")
+    a("--cohesion", type=strength, metavar="STRESS", help="cohesion of every joint; replaces the file's")
+
+
 def numbers(count: int | None = None, what: str = "comma-separated numbers"):
     """An argparse type: finite numbers separated by commas (``count`` of them, if given)."""
     split = lambda t: [float(x) for x in t.replace(" ", "").split(",") if x != ""]  # noqa: E731

@@ -11,7 +11,7 @@ import argparse
 import sys
 from contextlib import contextmanager
 
-from .arguments import SEED, rolling_arguments, seconds, tolerance, whole
+from .arguments import SEED, rolling_arguments, seconds, strength_arguments, tolerance, whole
 from .io.options3d import add_input_arguments, check_build_options, input_options  # argparse only: light
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
                       exit_status, interrupted, run_reporting, unwatch_signals, watch_signals)
@@ -95,6 +95,7 @@ def _solve_arguments(p):
     a("--animate", metavar="FILE.gif", help="write a GIF of the mechanism growing from rest")
     a("--prove", type=seconds, metavar="SECONDS", help="seconds for the proven lower bound alpha_lower in summary.csv")
     rolling_arguments(a)
+    strength_arguments(a)
     a("--view", metavar="FILE.html", help="3D: one self-contained HTML page to turn the structure and its mechanism")
     add_input_arguments(p)
 
@@ -116,7 +117,8 @@ def _solve(args, prog) -> int:
                     rolling=args.rolling, axles=args.axles, positions=args.positions, echo=None if args.quiet else _say,
                     view=args.view, inputs=input_options(args),
                     warn=lambda message: print(f"{prog}: warning: {message}", file=sys.stderr),
-                    command=" ".join([prog.split()[0], *sys.argv[1:]]), prove=args.prove)
+                    command=" ".join([prog.split()[0], *sys.argv[1:]]), prove=args.prove,
+                    strengths={"fc": args.fc, "ft": args.ft, "cohesion": args.cohesion})
     print(a.text(quiet=args.quiet))
     return exit_status() if a.interrupted else EXIT_OK if a.certified else EXIT_NOT_CERTIFIED
 

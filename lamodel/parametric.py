@@ -8,14 +8,17 @@ A spec (paths relative to the spec's folder)::
      "seed": 0,                                        # root of every variant's seeds
      "options": {"starts": 0, "pop_size": 10, "generations": 5, "time_limit": 60},
      "vary": {"mu": {"from": 0.3, "to": 0.9, "step": 0.1},          # or a list, or a number
+              "fc": [5000, 2000, 1000],                              # compressive strengths
               "load_angle": [0, 5, 10],                              # degrees, counter-clockwise
               "dead_force": {"block": "b33", "fx": [0, -0.5], "fy": 0}},
      "random": {"count": 40, "mu": {"sd": 0.05, "per": "contact"}, "size": {"sd": 0.02}}}
 
-Variants are every combination of the ``vary`` values (mu, load_angle, dead_fx, dead_fy in
-that order), each repeated ``random.count`` times with independent random perturbations.
+Variants are every combination of the ``vary`` values (mu, fc, load_angle, dead_fx,
+dead_fy in that order), each repeated ``random.count`` times with independent random perturbations.
 
 * ``mu``: the friction coefficient of every contact.
+* ``fc``: the compressive strength of every joint (:mod:`lamodel.formulation.joints`; in
+  the structure's force per length squared).
 * ``load_angle``: every block's live force rotated by this angle (degrees,
   counter-clockwise; 0 is the structure's own live load), its magnitude kept.
 * ``dead_force``: a constant force (dead_fx, dead_fy) added at a block's centroid.
@@ -46,7 +49,7 @@ import pandas as pd
 
 from .errors import InputError, OutputError
 from .structure import Structure
-from .variants import with_block_sizes, with_dead_force, with_friction, with_load_angle
+from .variants import with_block_sizes, with_dead_force, with_friction, with_load_angle, with_strengths
 
 #: columns after the parameters, in this order
 RESULT_COLUMNS = ("alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "seconds",
@@ -54,7 +57,7 @@ RESULT_COLUMNS = ("alpha", "certified", "alpha_associative", "n_sliding", "n_hin
 #: columns that depend on where and when a variant ran, not on the science
 RUN_COLUMNS = ("seconds", "attempts", "worker", "error")
 SPEC_KEYS = ("name", "structure", "seed", "options", "vary", "random", "description")
-VARY_KEYS = ("mu", "load_angle", "dead_force")
+VARY_KEYS = ("mu", "fc", "load_angle", "dead_force")
 OPTION_KEYS = ("starts", "time_limit", "pop_size", "generations", "chain", "xi_factor", "solver")
 #: values of one range of a spec beyond which it is refused at once
 MAX_RANGE = 10**6
@@ -167,6 +170,11 @@ def study_from_dict(spec: dict, structure: Structure, where: str = "study spec")
         if min(mus) < 0:
             raise InputError(f"{where}: vary.mu has {min(mus):g}; expected friction coefficients >= 0")
         grid.append(("mu", mus))
+    if "fc" in vary:
+        fcs = _numbers(vary["fc"], f"{where}: vary.fc")
+        if min(fcs) <= 0:
+            raise InputError(f"{where}: vary.fc has {min(fcs):g}; expected compressive strengths > 0")
+        grid.append(("fc", fcs))
     if "load_angle" in vary:
         grid.append(("load_angle", _numbers(vary["load_angle"], f"{where}: vary.load_angle")))
     if "dead_force" in vary:
@@ -231,6 +239,8 @@ def variant_structure(study: Study, params: dict, rng: np.random.Generator) -> t
     s, drawn = study.structure, {}
     if "mu" in params:
         s = with_friction(s, params["mu"])
+    if "fc" in params:
+        s = with_strengths(s, fc=params["fc"])
     if "load_angle" in params:
         s = with_load_angle(s, params["load_angle"])
     if study.dead_block is not None:

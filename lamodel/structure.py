@@ -26,7 +26,8 @@ import numpy as np
 
 from .assembly import Assembly
 from .errors import InputError
-from .validation import check_ends, check_finite, check_friction, check_ids, check_live, check_touched, first
+from .validation import (check_ends, check_finite, check_friction, check_ids, check_live, check_strengths,
+                         check_touched, first)
 
 #: Per-block and per-contact data, by the names of the Pyomo model's parameters and of the
 #: .dat files (:mod:`lamodel.io.datfile`, :mod:`lamodel.formulation.model`).
@@ -35,6 +36,12 @@ BLOCK_PARAMS = ("x", "y", "dead_x", "dead_y", "live_x", "live_y")
 #: about the centroid of loads that act elsewhere (point loads), eq. (1)'s x ^ f.
 BLOCK_MOMENT_PARAMS = ("dead_m", "live_m")
 CONTACT_PARAMS = ("block_a", "block_b", "cx", "cy", "nx", "ny", "d", "mu")
+
+#: The joint's strengths (:mod:`lamodel.formulation.joints`) and their defaults: the dry,
+#: infinitely strong joint of eq. (4), out-of-plane thickness 1.
+JOINT_DEFAULTS = {"fc": np.inf, "ft": 0.0, "cohesion": 0.0, "thickness": 1.0}
+#: Their names: optional per-contact parameters of the .dat files and fields of the JSON ones.
+STRENGTH_PARAMS = tuple(JOINT_DEFAULTS)
 
 #: Yield rows of eq. (4), in the order used for the flow multipliers xi (4 per contact):
 #: sliding forward, sliding backward, hinging on one edge, hinging on the other.
@@ -60,6 +67,12 @@ class Structure(Assembly):
     point_loads: list = field(default_factory=list)  # PointLoad of this structure's loads (pictures)
     cases: dict = field(default_factory=dict)     # name -> LoadCase: named live-load patterns
     rolling: object = None                        # a RollingLoad study, or None
+    # the joint's strengths (lamodel.formulation.joints), per contact; the defaults are the
+    # dry joint of eq. (4), infinitely strong in compression
+    fc: np.ndarray | None = None         # (nc,) compressive strength (stress), inf: no crushing
+    ft: np.ndarray | None = None         # (nc,) tensile strength (stress)
+    cohesion: np.ndarray | None = None   # (nc,) cohesion c0 (stress)
+    thickness: np.ndarray | None = None  # (nc,) b, the joint's width out of the plane (length)
 
     def __post_init__(self):
         self._as_text("blocks", "supports", "contacts", "block_a", "block_b")
@@ -74,6 +87,9 @@ class Structure(Assembly):
         self.polygons = {str(k): np.asarray(v, dtype=float) for k, v in self.polygons.items()}
         self.dead_m = np.zeros(nb) if self.dead_m is None else f(self.dead_m, (nb,))
         self.live_m = np.zeros(nb) if self.live_m is None else f(self.live_m, (nb,))
+        for name, default in JOINT_DEFAULTS.items():
+            value = getattr(self, name)
+            setattr(self, name, np.full(nc, default) if value is None else f(value, (nc,)))
 
     # ----------------------------------------------------------------- sizes and lookups
     @property
@@ -83,6 +99,11 @@ class Structure(Assembly):
     @property
     def tangent(self) -> np.ndarray:
         return np.column_stack([-self.normal[:, 1], self.normal[:, 0]])
+
+    @property
+    def has_materials(self) -> bool:
+        """Whether some joint crushes, takes tension or has cohesion (else eq. 4 as it is)."""
+        return bool(np.isfinite(self.fc).any() or (self.ft > 0).any() or (self.cohesion > 0).any())
 
     def contact_blocks(self):
         """Indices of blocks a and b per contact, -1 for a support."""
@@ -115,6 +136,8 @@ class Structure(Assembly):
         if k is not None:
             raise InputError(f"{where}: d of contact '{self.contacts[k]}' is {self.d[k]:.6g}; expected a half-length > 0")
         check_friction(where, self.mu, lambda i: f"contact '{self.contacts[i]}'")
+        check_strengths(where, self.fc, self.ft, self.cohesion, self.thickness,
+                        lambda i: f"contact '{self.contacts[i]}'")
         check_touched(where, self.blocks, *self.contact_blocks())
         # a file of load cases or a rolling load is solved per case / position (lamodel.loads)
         check_live(where, bool(np.any(self.live) or np.any(self.live_m) or self.cases or self.rolling))

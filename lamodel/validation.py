@@ -87,3 +87,21 @@ def first(mask) -> int | None:
     """The row of the first True entry of ``mask`` (any shape), or None."""
     hit = np.argwhere(np.asarray(mask))
     return int(hit[0][0]) if len(hit) else None
+
+
+def check_strengths(where: str, fc, ft, cohesion, thickness, owner):
+    """The joint's strengths (:mod:`lamodel.formulation.joints`): f_c > 0 (inf: none),
+    f_t >= 0, cohesion >= 0, finite thickness > 0, and f_t <= f_c; ``owner(i)`` names
+    contact i."""
+    for name, v, ok, expected in (("fc", fc, lambda x: x > 0, "a compressive strength > 0 (inf: no crushing)"),
+                                  ("ft", ft, lambda x: np.isfinite(x) & (x >= 0), "a finite tensile strength >= 0"),
+                                  ("cohesion", cohesion, lambda x: np.isfinite(x) & (x >= 0), "a finite cohesion >= 0"),
+                                  ("thickness", thickness, lambda x: np.isfinite(x) & (x > 0),
+                                   "a finite thickness > 0")):
+        i = first(~ok(np.asarray(v, float)))
+        if i is not None:
+            raise InputError(f"{where}: {name} of {owner(i)} is {v[i]:.6g}; expected {expected}")
+    i = first(ft > fc)
+    if i is not None:
+        raise InputError(f"{where}: ft of {owner(i)} is {ft[i]:.6g}, above its fc {fc[i]:.6g}; "
+                         "expected a tensile strength at most the compressive one")

@@ -1,5 +1,5 @@
-"""Variants of a structure: copies with another friction coefficient, an added dead force,
-a rotated live load or scaled blocks (what a study varies, :mod:`lamodel.parametric`).
+"""Variants of a structure: copies with another friction coefficient, other joint
+strengths, an added dead force, a rotated live load or scaled blocks (what a study varies, :mod:`lamodel.parametric`).
 
 Every variant is a deep copy; the structure passed in is never modified.
 """
@@ -23,6 +23,17 @@ def with_friction(structure: Structure, mu: float) -> Structure:
     s.mu = np.full(s.n_contacts, mu)
     s.name = f"{structure.name}_mu{mu:g}"
     return s
+
+
+def with_strengths(structure: Structure, fc: float | None = None, ft: float | None = None,
+                   cohesion: float | None = None) -> Structure:
+    """A copy of the structure with these strengths on every joint (None: the structure's
+    own; :mod:`lamodel.formulation.joints`), checked (InputError naming the field)."""
+    s = copy.deepcopy(structure)
+    for name, value in (("fc", fc), ("ft", ft), ("cohesion", cohesion)):
+        if value is not None:
+            setattr(s, name, np.full(s.n_contacts, float(value)))
+    return s.validate()
 
 
 def with_dead_force(structure: Structure, block: str, fx: float = 0.0, fy: float = 0.0,

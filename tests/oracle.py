@@ -16,6 +16,15 @@ u = (ux, uy, theta) at the block centroid):
 * virtual work: alpha + dead . u = sum over the contacts of N opening + V slip + M turn
   (the seed's alpha = alpha_K, eq. 5).
 
+Joints with strengths (contacts.csv columns fc, ft, cohesion, thickness b; absent: a dry
+joint, infinitely strong) are checked against the rectangular stress block itself, not
+against lamodel's polygon: -2 d b fc <= N <= 2 d b ft, |M| at most the moment of the
+stress blocks at that N, |V| <= cohesion 2 d b - mu N; a crushing joint may overlap; a
+moving joint's N opening + M turn is the stress block's dissipation
+b * integral(ft delta+ + fc delta-) over the joint (delta: the local opening) for an
+infinite fc, and for a finite one at least that of the stress block whose moments are
+shrunk by ``eps`` (lamodel's inscribed polygon, within its stated bound) and at most that.
+
 Tolerances are relative to the structure's own force, length and displacement scales, so
 the check means the same in any units.
 """
@@ -28,8 +37,50 @@ import numpy as np
 import pandas as pd
 
 
-def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: float, tol: float = 1e-7):
-    """Assert every condition of a collapse state (AssertionError naming the contact or block)."""
+def stress_block_moment(N, d, b, fc, ft):
+    """The largest |M| of stresses in [-fc, ft] on a joint of half-length d, thickness b,
+    with resultant N (None outside [-2 d b fc, 2 d b ft]): compression fc over a depth
+    y_c at one end, tension ft over the rest, N = b (ft (2d - y_c) - fc y_c)."""
+    if N > 2 * d * b * ft * (1 + 1e-12) + 1e-300 or (math.isfinite(fc) and N < -2 * d * b * fc * (1 + 1e-12)):
+        return None
+    if not math.isfinite(fc):  # all the compression at the edge, tension over the joint
+        return d * (2 * d * b * ft - N)
+    y_c = min(max((2 * d * b * ft - N) / (b * (fc + ft)), 0.0), 2 * d)
+    C, T = fc * b * y_c, ft * b * (2 * d - y_c)  # the two blocks, about the joint's centre
+    return C * (d - y_c / 2) + T * (d - (2 * d - y_c) / 2)
+
+
+def stress_block_work(opening, turn, d, b, fc, ft):
+    """The stress block's dissipation b * integral over [-d, d] of (ft delta+ + fc delta-),
+    delta = opening + turn x (inf where an infinitely strong joint overlaps)."""
+    x = np.linspace(-d, d, 20001)
+    delta = opening + turn * x
+    if not math.isfinite(fc):
+        return b * ft * 2 * d * opening if delta.min() >= -1e-12 * max(abs(opening), abs(turn) * d, 1e-300) \
+            else math.inf
+    return float(b * np.trapezoid(ft * np.maximum(delta, 0) + fc * np.maximum(-delta, 0), x))
+
+
+def shrunk_work(opening, turn, d, b, fc, ft, eps):
+    """A lower bound of max N opening + M turn over the stress block's domain with every
+    moment shrunk by eps (the domain lamodel's polygon contains): the max over a grid of N."""
+    Ns = np.linspace(-2 * d * b * fc, 2 * d * b * ft, 4001)
+    Ms = np.array([stress_block_moment(N, d, b, fc, ft) or 0.0 for N in Ns])
+    return float(np.max(Ns * opening + (1 - eps) * Ms * abs(turn)))
+
+
+def _strengths(c):
+    """(fc, ft, cohesion, b) of a contacts row; a dry joint without the columns."""
+    get = lambda name, default: float(getattr(c, name, default))  # noqa: E731
+    fc, ft, c0, b = get("fc", math.inf), get("ft", 0.0), get("cohesion", 0.0), get("thickness", 1.0)
+    return (fc if not math.isnan(fc) else math.inf), ft, c0, b
+
+
+def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: float, tol: float = 1e-7,
+                         eps: float = 0.0097):
+    """Assert every condition of a collapse state (AssertionError naming the contact or block).
+    ``eps``: how much lamodel's inscribed polygon may shrink a crushing joint's moments
+    (its stated bound, 0.96%)."""
     B = {r.block: r for r in blocks.itertuples(index=False)}
     pts = [(r.x, r.y) for r in B.values()] + [(c.cx, c.cy) for c in contacts.itertuples(index=False)]
     L = float(np.ptp(np.array(pts), axis=0).max()) or 1.0
@@ -49,9 +100,13 @@ def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: fl
             if body in B:
                 r = np.array([c.cx - B[body].x, c.cy - B[body].y])
                 res[body] += sign * np.array([f[0], f[1], r[0] * f[1] - r[1] * f[0] + c.M])
-        assert c.N <= tol * F, (c.contact, "tension", c.N)
-        assert abs(c.V) <= -c.mu * c.N + tol * F, (c.contact, "Coulomb", c.V, c.N)
-        assert abs(c.M) <= -c.d * c.N + tol * F * L, (c.contact, "eccentricity", c.M, c.N)
+        fc, ft, c0, b = _strengths(c)
+        area = 2 * c.d * b
+        assert c.N <= area * ft + tol * F, (c.contact, "tension", c.N)
+        assert c.N >= -area * fc - tol * F, (c.contact, "crushing", c.N)
+        assert abs(c.V) <= c0 * area - c.mu * c.N + tol * F, (c.contact, "Coulomb", c.V, c.N)
+        cap = stress_block_moment(min(max(c.N, -area * fc), area * ft), c.d, b, fc, ft)
+        assert abs(c.M) <= cap + tol * F * L, (c.contact, "eccentricity", c.M, c.N)
     for b, r in res.items():
         assert np.abs(r[:2]).max() <= tol * F and abs(r[2]) <= tol * F * L, (b, "equilibrium", r)
 
@@ -70,16 +125,29 @@ def check_collapse_state(blocks: pd.DataFrame, contacts: pd.DataFrame, alpha: fl
         (ua, ta), (ub, tb) = motion(c.block_a, c.cx, c.cy), motion(c.block_b, c.cx, c.cy)
         n, t = np.array([c.nx, c.ny]), np.array([-c.ny, c.nx])
         opening, slip, turn = (ub - ua) @ n, (ub - ua) @ t, tb - ta
-        assert opening >= c.d * abs(turn) - tol * U, (c.contact, "interpenetration", opening, turn)
+        fc, ft, c0, b = _strengths(c)
+        area = 2 * c.d * b
+        if not math.isfinite(fc):  # an infinitely strong joint never overlaps
+            assert opening >= c.d * abs(turn) - tol * U, (c.contact, "interpenetration", opening, turn)
         if abs(slip) > tol * U:  # sliding: shear at the friction limit, dragging a along the slip
-            assert abs(abs(c.V) + c.mu * c.N) <= tol * F, (c.contact, "slip off the limit", c.V, c.N)
+            assert abs(abs(c.V) + c.mu * c.N - c0 * area) <= tol * F, (c.contact, "slip off the limit", c.V, c.N)
             assert c.V * slip >= -tol * F * U, (c.contact, "friction with the slip")
-        if c.d * abs(turn) > tol * U:  # hinging: the normal force at the pivot edge
-            assert abs(abs(c.M) + c.d * c.N) <= tol * F * L, (c.contact, "hinge off the limit", c.M, c.N)
-        if opening > c.d * abs(turn) + tol * U:  # separating: no force at all
-            assert max(abs(c.N), abs(c.V)) <= tol * F and abs(c.M) <= tol * F * L, (c.contact, "open joint")
-        # opening and hinging dissipate nothing (the work of N and M cancels)
-        assert abs(c.N * opening + c.M * turn) <= 10 * tol * F * U, (c.contact, "hinge work")
+        work = c.N * opening + c.M * turn
+        if not math.isfinite(fc):
+            if c.d * abs(turn) > tol * U:  # hinging: the normal force at the pivot edge
+                cap = stress_block_moment(c.N, c.d, b, fc, ft) or 0.0
+                assert abs(abs(c.M) - cap) <= tol * F * L, (c.contact, "hinge off the limit", c.M, c.N)
+            if opening > c.d * abs(turn) + tol * U:  # separating: the joint's tension, nothing else
+                assert abs(c.N - area * ft) <= tol * F and abs(c.M) <= tol * F * L, (c.contact, "open joint")
+                if ft == 0 and c0 == 0:
+                    assert abs(c.V) <= tol * F, (c.contact, "open joint")
+            # opening and hinging dissipate the tension's work only (dry: nothing)
+            assert abs(work - area * ft * opening) <= 10 * tol * F * U, (c.contact, "hinge work")
+        elif max(abs(opening), c.d * abs(turn)) > tol * U:  # crushing or opening: the stress block's work
+            most = stress_block_work(opening, turn, c.d, b, fc, ft)
+            least = shrunk_work(opening, turn, c.d, b, fc, ft, eps)
+            assert least - 10 * tol * F * U <= work <= most + 10 * tol * F * U, \
+                (c.contact, "joint work", work, least, most)
         if "mode" in contacts.columns and c.mode == "closed":
             assert max(abs(opening), abs(slip), c.d * abs(turn)) <= 1e-6 * U, (c.contact, "moves")
         internal += c.N * opening + c.V * slip + c.M * turn
@@ -112,6 +180,9 @@ def check_state(structure, state, tol: float = 1e-7) -> float:
     contacts = pd.DataFrame({"contact": s.contacts, "block_a": s.block_a, "block_b": s.block_b,
                              "cx": s.centre[:, 0], "cy": s.centre[:, 1], "nx": s.normal[:, 0], "ny": s.normal[:, 1],
                              "d": s.d, "mu": s.mu, "N": state.N, "V": state.V, "M": state.M})
+    for name in ("fc", "ft", "cohesion", "thickness"):  # the joints' strengths, where the structure has them
+        if getattr(s, name, None) is not None:
+            contacts[name] = getattr(s, name)
     return check_collapse_state(blocks, contacts, float(state.alpha), tol)
 
 

@@ -40,7 +40,8 @@ class BoundBeside:
 
     def __init__(self, structure, enabled: bool = True):
         self.structure = structure
-        self.enabled = enabled
+        # the bound knows dry joints only (lamodel.output.report.bound_columns reports none)
+        self.enabled = enabled and not getattr(structure, "has_materials", False)
         self._stop = threading.Event()
         #: no time of its own while the search runs (:meth:`finish` sets it); a stop ends it
         self.deadline = Deadline(None, self._stop.is_set)

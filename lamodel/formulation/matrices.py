@@ -10,6 +10,10 @@ and the tests — takes its coefficients from here. Conventions are those of :mo
 * kinematics of the fictitious cohesive system ``-A^T u = G^T xi``, ``xi >= 0``,
   ``fbar^T u = 1``;
 * ``alpha_K = -u^T f0 - xi^T N_mu s_N`` (eq. 5);
+* with the joint's strengths (:mod:`.joints`: crushing, tension, cohesion) eq. (4)
+  becomes ``Y s_f <= b`` (:func:`strength_rows`) and the fictitious cohesion
+  ``c0 (2 d b) - mu N``; a dry joint (the default) keeps eq. (4) and every matrix above
+  as it is;
 * the same statics in friction-cone generator form ``s_f = T lambda``, ``lambda >= 0``
   (:func:`generator_matrix`), and the columns of the fictitious cohesive LP
   (:func:`cohesive_matrix`).
@@ -21,7 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..structure import Structure
+from ..search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FLOOR
+from ..structure import YIELD_ROWS, Structure
+from .joints import facets, fractions
 
 
 def equilibrium_matrix(s: Structure) -> sp.csr_matrix:
@@ -90,6 +96,64 @@ def flow_matrix(s: Structure) -> sp.csr_matrix:
     I = sp.identity(nc, format="csr")
     D, Z = sp.diags(s.d), sp.csr_matrix((nc, nc))
     return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
+
+
+def facets_per_half(s: Structure) -> int:
+    """N-M facets a half of every joint's domain: one (the hinge rows of eq. 4, shifted by
+    the tension) unless some joint crushes, then those of :func:`.joints.fractions`."""
+    if not np.isfinite(s.fc).any():
+        return 1
+    return len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR, CRUSHING_FAN_RATIO)) - 1
+
+
+def joint_facets(s: Structure):
+    """(a, beta), each (2 m, nc): the N-M facets ``a N -/+ M <= beta`` of every joint, the
+    m lower ones (``-M``) then the m upper ones (``+M``), m = :func:`facets_per_half`. A
+    joint of infinite f_c repeats its one facet (its rows are copies: the layout stays a
+    block of nc rows a kind)."""
+    m = facets_per_half(s)
+    a, beta = np.empty((m, s.n_contacts)), np.empty((m, s.n_contacts))
+    for k in range(s.n_contacts):
+        ak, bk = facets(s.d[k], s.thickness[k], s.fc[k], s.ft[k], CRUSHING_FACETS, CRUSHING_FLOOR,
+                        CRUSHING_FAN_RATIO)
+        a[:, k], beta[:, k] = np.resize(ak, m), np.resize(bk, m)
+    return np.vstack([a, a]), np.vstack([beta, beta])
+
+
+def row_names(s: Structure) -> tuple:
+    """The kinds of yield rows, a block of nc rows each: eq. (4)'s ``YIELD_ROWS``, or with
+    the joints' strengths slide+, slide-, then the facets of :func:`joint_facets`, lower
+    (``crush-1`` at the tension end .. ``crush-m``) and upper (``crush+1`` ..)."""
+    if not s.has_materials:
+        return YIELD_ROWS
+    m = facets_per_half(s)
+    return ("slide+", "slide-", *(f"crush-{j + 1}" for j in range(m)), *(f"crush+{j + 1}" for j in range(m)))
+
+
+def joint_area(s: Structure) -> np.ndarray:
+    """2 d b a contact: the area the cohesion acts on."""
+    return 2.0 * s.d * s.thickness
+
+
+def strength_rows(s: Structure):
+    """(Y, G, b) of a structure with the joint's strengths (:mod:`.joints`), rows
+    ``Y s_f <= b`` a block of nc a kind: slide+ ``mu N + V <= c0 A``, slide-, then the
+    facets of :func:`joint_facets` (their M coefficient -1 for the lower half, +1 for the
+    upper). G: the fictitious system's flow rows, whose slides carry no N (its cohesion is
+    ``c0 A - mu N`` of the real forces), facets as in Y (associative: a crushed joint
+    overlaps). With m = 1 and no strengths these are :func:`yield_matrix` and
+    :func:`flow_matrix` with b = 0."""
+    nc = s.n_contacts
+    a, beta = joint_facets(s)
+    m = a.shape[0] // 2
+    I, Z = sp.identity(nc, format="csr"), sp.csr_matrix((nc, nc))
+    sides = [-1.0] * m + [1.0] * m
+    facet_rows = [[sp.diags(a[j]), Z, side * I] for j, side in enumerate(sides)]
+    Mu = sp.diags(s.mu)
+    Y = sp.bmat([[Mu, I, Z], [Mu, -I, Z]] + facet_rows, format="csr")
+    G = sp.bmat([[Z, I, Z], [Z, -I, Z]] + facet_rows, format="csr")
+    cA = s.cohesion * joint_area(s)
+    return Y, G, np.concatenate([cA, cA, beta.ravel()])
 
 
 def generator_matrix(structure: Structure, friction=None) -> sp.csr_matrix:
@@ -183,15 +247,19 @@ def xi_bounds(s: Structure, factor: float = 100.0) -> np.ndarray:
         mag = np.abs(s.live_m) / s.size()
     U = 1.0 / mag[mag > 0].min()
     slide = np.full(s.n_contacts, factor * U)
-    hinge = factor * U / s.d
-    return np.concatenate([slide, slide, hinge, hinge])
+    hinge = factor * U / s.d  # the N-M facets of joints with strengths flow rotations too
+    return np.concatenate([slide, slide] + [hinge] * (len(row_names(s)) - 2))
 
 
-def kinematic_multiplier(f0, mu, u, xi, N) -> float:
+def kinematic_multiplier(f0, mu, u, xi, N, b=None) -> float:
     """alpha_K = -u^T f0 - xi^T N_mu s_N (eq. 5): the work of the dead loads plus the
-    dissipation on the fictitious cohesion -mu N (only the sliding rows dissipate)."""
+    dissipation on the fictitious cohesion -mu N (only the sliding rows dissipate). With
+    the joint's strengths (``b``: the right-hand sides of :func:`strength_rows`) every row
+    also dissipates ``xi b``: the cohesion on the slides, crushing and tension on the
+    facets."""
     nc = len(mu)
-    return float(-np.dot(f0, u) - np.sum(mu * N * (xi[:nc] + xi[nc:2 * nc])))
+    alpha = float(-np.dot(f0, u) - np.sum(mu * N * (xi[:nc] + xi[nc:2 * nc])))
+    return alpha if b is None else alpha + float(xi @ b)
 
 
 @dataclass
@@ -210,10 +278,14 @@ class Formulation(Statics):
 
     Y: sp.csr_matrix
     G: sp.csr_matrix
+    #: right-hand sides of ``Y s_f <= b`` with the joint's strengths (None: eq. 4, b = 0)
+    b: np.ndarray | None = None
 
     @classmethod
     def of(cls, s: Structure) -> "Formulation":
         f0, fbar = load_vectors(s)
+        if s.has_materials:
+            return cls(s, equilibrium_matrix(s), f0, fbar, *strength_rows(s))
         return cls(s, equilibrium_matrix(s), f0, fbar, yield_matrix(s), flow_matrix(s))
 
     @property
@@ -225,8 +297,9 @@ class Formulation(Statics):
         return self.structure.n_contacts
 
     def slack(self, s_f) -> np.ndarray:
-        """-(Y s_f): the four yield slacks per contact (>= 0 when admissible), stacked by row."""
-        return -(self.Y @ s_f[:3 * self.nc])
+        """b - Y s_f: the yield slacks (>= 0 when admissible), stacked by row (b = 0 for eq. 4)."""
+        out = -(self.Y @ s_f[:3 * self.nc])
+        return out if self.b is None else out + self.b
 
     def kinematic_multiplier(self, u, xi, N) -> float:
-        return kinematic_multiplier(self.f0, self.structure.mu, u, xi, N)
+        return kinematic_multiplier(self.f0, self.structure.mu, u, xi, N, self.b)

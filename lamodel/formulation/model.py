@@ -36,7 +36,7 @@ from pyomo.environ import (AbstractModel, Any, BuildAction, ConcreteModel, Const
 
 from ..solvers import bridge  # noqa: F401  registers SolverFactory('lamodel_ipopt') for the users of the model
 from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, YIELD_ROWS, Structure
-from .matrices import Formulation, xi_bounds
+from .matrices import Formulation, row_names, xi_bounds
 
 __all__ = ["BLOCK_PARAMS", "CONTACT_PARAMS", "LimitAnalysisBlock", "create_abstract_model", "create_model",
            "declare_limit_analysis", "get_state", "kinematic_multiplier", "relative_displacement", "set_state",
@@ -45,12 +45,14 @@ __all__ = ["BLOCK_PARAMS", "CONTACT_PARAMS", "LimitAnalysisBlock", "create_abstr
 
 # --------------------------------------------------------------------------- declarations
 def declare_sets(b, structure: Structure | None = None):
-    """BLOCKS (movable), SUPPORTS (fixed), CONTACTS, and the four yield ROWS of eq. (4)."""
+    """BLOCKS (movable), SUPPORTS (fixed), CONTACTS, and the yield ROWS: the four of eq. (4),
+    or with the joints' strengths those of :func:`~.matrices.row_names`."""
     s = structure
     b.BLOCKS = Set(ordered=True, dimen=1, initialize=None if s is None else s.blocks, doc="movable blocks")
     b.SUPPORTS = Set(ordered=True, dimen=1, initialize=None if s is None else s.supports, doc="fixed bodies")
     b.CONTACTS = Set(ordered=True, dimen=1, initialize=None if s is None else s.contacts, doc="contact interfaces")
-    b.ROWS = Set(ordered=True, initialize=YIELD_ROWS, doc="yield rows of eq. (4): two sliding, two hinging")
+    b.ROWS = Set(ordered=True, initialize=YIELD_ROWS if s is None else row_names(s),
+                 doc="yield rows of eq. (4): two sliding, two hinging (or the facets of a joint with strengths)")
 
 
 def declare_params(b, structure: Structure | None = None, xi_factor: float = 100.0):
@@ -129,7 +131,9 @@ def _build_formulation(b):
 
 def declare_variables(b):
     """s = (N, V, M, alpha) of eq. (3); block displacements u; flow multipliers xi."""
-    b.N = Var(b.CONTACTS, bounds=(None, 0.0), initialize=0.0, doc="normal force, <= 0 in compression")
+    tension = b._structure is not None and bool(np.any(b._structure.ft > 0))  # then the rows bound N
+    b.N = Var(b.CONTACTS, bounds=(None, None if tension else 0.0), initialize=0.0,
+              doc="normal force, <= 0 in compression")
     b.V = Var(b.CONTACTS, initialize=0.0, doc="shear force along t = (-n_y, n_x)")
     b.M = Var(b.CONTACTS, initialize=0.0, doc="couple about the contact centre, on block a")
     b.alpha = Var(within=NonNegativeReals, initialize=0.0, doc="load multiplier")
@@ -140,7 +144,7 @@ def declare_variables(b):
 
     def xi_bounds_rule(b, k, r):
         # an expression of the mutable xi_factor: changing it moves the bounds
-        return 0.0, b.xi_factor * float(b._xi_base[YIELD_ROWS.index(r) * len(b.CONTACTS) + b._contact_index[k]])
+        return 0.0, b.xi_factor * float(b._xi_base[(b.ROWS.ord(r) - 1) * len(b.CONTACTS) + b._contact_index[k]])
 
     b.xi = Var(b.CONTACTS, b.ROWS, bounds=xi_bounds_rule, initialize=0.0, doc="flow multipliers of eq. (5)")
 
@@ -190,13 +194,26 @@ def declare_equilibrium(b):
 
 
 def yield_row(b, k, r):
-    """Value of yield row r of eq. (4) at contact k (row of ``Y s_f``); its negative is the slack."""
-    return _row(b._formulation.Y, YIELD_ROWS.index(r) * len(b.CONTACTS) + b._contact_index[k], _forces(b))
+    """Value of yield row r of eq. (4) at contact k (row of ``Y s_f``); its negative is the
+    slack (with the joints' strengths: ``b`` minus it, :func:`row_bound`)."""
+    return _row(b._formulation.Y, _row_index(b, k, r), _forces(b))
+
+
+def _row_index(b, k, r):
+    return (b.ROWS.ord(r) - 1) * len(b.CONTACTS) + b._contact_index[k]
+
+
+def row_bound(b, k, r) -> float:
+    """The right-hand side of yield row r at contact k: 0 in eq. (4), the cohesion or the
+    facet's with the joints' strengths (:func:`~.matrices.strength_rows`)."""
+    F = b._formulation
+    return 0.0 if F.b is None else float(F.b[_row_index(b, k, r)])
 
 
 def declare_yield(b):
-    """Eq. (4): mu N +- V <= 0 (Coulomb), d N -+ M <= 0 (no tension, eccentricity <= d)."""
-    b.yield_condition = Constraint(b.CONTACTS, b.ROWS, rule=lambda b, k, r: yield_row(b, k, r) <= 0)
+    """Eq. (4): mu N +- V <= 0 (Coulomb), d N -+ M <= 0 (no tension, eccentricity <= d);
+    with the joints' strengths ``Y s_f <= b`` (cohesion, the N-M facets)."""
+    b.yield_condition = Constraint(b.CONTACTS, b.ROWS, rule=lambda b, k, r: yield_row(b, k, r) <= row_bound(b, k, r))
 
 
 def relative_displacement(b, k, parts=(0, 1, 2)):
@@ -220,7 +237,7 @@ def declare_kinematics(b):
         def flow(b, k):
             if "_Gt" not in b.__dict__:
                 b._Gt = b._formulation.G.T.tocsr()
-                b._xi_list = [b.xi[c, r] for r in YIELD_ROWS for c in b.CONTACTS]
+                b._xi_list = [b.xi[c, r] for r in b.ROWS for c in b.CONTACTS]
             i = b._contact_index[k] + part * len(b.CONTACTS)
             return relative_displacement(b, k, (part,))[0] == _row(b._Gt, i, b._xi_list)
         return flow
@@ -243,6 +260,9 @@ def kinematic_multiplier(b):
     dead_work = sum(float(f0[i]) * u[i] for i in np.flatnonzero(f0))
     dead_work += sum(b.extra_x[j] * b.ux[j] + b.extra_y[j] * b.uy[j] for j in b.BLOCKS)
     dissipation = sum(b.mu[k] * b.N[k] * (b.xi[k, "slide+"] + b.xi[k, "slide-"]) for k in b.CONTACTS)
+    if b._formulation.b is not None:  # the joints' strengths dissipate xi b (cohesion, facets)
+        dissipation -= sum(row_bound(b, k, r) * b.xi[k, r] for k in b.CONTACTS for r in b.ROWS
+                           if row_bound(b, k, r) != 0)
     return -dead_work - dissipation
 
 
@@ -277,8 +297,8 @@ def create_abstract_model() -> AbstractModel:
 
 
 def create_model(structure: Structure, objective: bool = True, xi_factor: float = 100.0) -> ConcreteModel:
-    """The model of a Structure, ready to solve."""
-    return declare_limit_analysis(ConcreteModel(name=structure.name), structure.validate(), objective, xi_factor)
+    """The model of a Structure, ready to solve (its joints' strengths included)."""
+    return declare_limit_analysis(ConcreteModel(name=structure.name), _structure(structure), objective, xi_factor)
 
 
 def _structure(value):
@@ -329,7 +349,7 @@ def set_state(b, structure: Structure, N, V, M, alpha, u, xi):
         b.N[c].set_value(float(N[k]), skip_validation=True)
         b.V[c].set_value(float(V[k]), skip_validation=True)
         b.M[c].set_value(float(M[k]), skip_validation=True)
-        for r, row in enumerate(YIELD_ROWS):
+        for r, row in enumerate(b.ROWS):
             b.xi[c, row].set_value(float(xi[r * nc + k]), skip_validation=True)
     for j, blk in enumerate(structure.blocks):
         b.ux[blk].set_value(float(u[3 * j]), skip_validation=True)
@@ -345,6 +365,6 @@ def get_state(b, structure: Structure):
     N = np.array([val(b.N[c]) for c in cs])
     V = np.array([val(b.V[c]) for c in cs])
     M = np.array([val(b.M[c]) for c in cs])
-    xi = np.array([val(b.xi[c, row]) for row in YIELD_ROWS for c in cs])
+    xi = np.array([val(b.xi[c, row]) for row in b.ROWS for c in cs])
     u = np.array([val(v) for blk in bs for v in (b.ux[blk], b.uy[blk], b.theta[blk])])
     return N, V, M, val(b.alpha), u, xi

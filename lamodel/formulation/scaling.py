@@ -84,10 +84,12 @@ def light_scales(structure: Structure, light: float):
 
 def scaled(structure: Structure, F: float, L: float) -> Structure:
     """The structure in the units (F, L) of :func:`scales`: forces / F, lengths / L,
-    moments / (F L); friction and topology unchanged."""
+    moments / (F L), stresses / (F / L^2); friction and topology unchanged."""
     return Structure(name=structure.name, blocks=structure.blocks, centroid=structure.centroid / L,
                      dead=structure.dead / F, live=structure.live / F, supports=structure.supports,
                      contacts=structure.contacts, block_a=structure.block_a, block_b=structure.block_b,
                      centre=structure.centre / L, normal=structure.normal, d=structure.d / L, mu=structure.mu,
                      dead_m=structure.dead_m / (F * L), live_m=structure.live_m / (F * L),
-                     polygons={k: v / L for k, v in structure.polygons.items()})  # size() 1, as L
+                     polygons={k: v / L for k, v in structure.polygons.items()},  # size() 1, as L
+                     fc=structure.fc * (L * L / F), ft=structure.ft * (L * L / F),
+                     cohesion=structure.cohesion * (L * L / F), thickness=structure.thickness / L)

@@ -14,10 +14,14 @@ The file is plain Pyomo data for :func:`lamodel.formulation.model.create_abstrac
     param: VERTICES: vx vy :=      # optional: block outlines, for pictures only
       b1 1 0.0 0.0
       ... ;
+    param: fc :=                   # optional: the joints' strengths, per contact
+      c1 5000.0                    # (fc, ft, cohesion, thickness; a contact not listed
+      ... ;                        # keeps the default: inf, 0, 0, 1)
 
 so ``create_abstract_model().create_instance('wall33.dat')`` and :func:`read_dat` see the
 same data. :func:`read_dat` adds the checks a user needs: every parameter present exactly
-once, contacts naming known bodies, unit normals, d > 0, mu >= 0, finite numbers.
+once, contacts naming known bodies, unit normals, d > 0, mu >= 0, finite numbers. Stresses
+(fc, ft, cohesion) are in the file's force per length squared, as its other numbers.
 """
 from __future__ import annotations
 
@@ -32,7 +36,7 @@ from collections import defaultdict
 import numpy as np
 
 from ..errors import InputError
-from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, Structure
+from ..structure import BLOCK_MOMENT_PARAMS, BLOCK_PARAMS, CONTACT_PARAMS, JOINT_DEFAULTS, STRENGTH_PARAMS, Structure
 from .files import atomic_write_text, read_text
 
 
@@ -46,7 +50,7 @@ def _schema():
     m.VERTICES = Set(dimen=2, ordered=True)
     for name in BLOCK_PARAMS + BLOCK_MOMENT_PARAMS:
         m.add_component(name, Param(m.BLOCKS, within=Any))
-    for name in CONTACT_PARAMS:
+    for name in CONTACT_PARAMS + STRENGTH_PARAMS:
         m.add_component(name, Param(m.CONTACTS, within=Any))
     m.vx = Param(m.VERTICES, within=Any)
     m.vy = Param(m.VERTICES, within=Any)
@@ -81,6 +85,11 @@ def write_dat(structure: Structure, path) -> str:
         vals = (*s.centre[k], *s.normal[k], s.d[k], s.mu[k])
         lines.append(f"  {c} {s.block_a[k]} {s.block_b[k]} " + " ".join(_fmt(v) for v in vals))
     lines.append(";")
+    for name in STRENGTH_PARAMS:  # optional tables: the contacts off the default only
+        values = getattr(s, name)
+        off = np.flatnonzero(values != JOINT_DEFAULTS[name])
+        if off.size:
+            lines += ["", f"param: {name} :="] + [f"  {s.contacts[k]} {_fmt(values[k])}" for k in off] + [";"]
     if s.polygons:
         lines += ["", "param: VERTICES: vx vy :="]
         for body, verts in s.polygons.items():
@@ -168,7 +177,7 @@ def _unknown_name(path: str, text: str, name: str) -> str:
         if line.strip().startswith("param") and re.search(rf"(?<![\w.]){re.escape(name)}(?![\w.])", declared):
             where = f"{path}, line {lineno}"
             break
-    known = ", ".join((*BLOCK_PARAMS, *BLOCK_MOMENT_PARAMS, *CONTACT_PARAMS, "vx", "vy"))
+    known = ", ".join((*BLOCK_PARAMS, *BLOCK_MOMENT_PARAMS, *CONTACT_PARAMS, *STRENGTH_PARAMS, "vx", "vy"))
     return f"{where}: unknown parameter '{name}'; expected only the parameters {known}"
 
 
@@ -276,7 +285,8 @@ def _pyomo_data(path, text):
     return data
 
 
-_KNOWN = {"BLOCKS", "SUPPORTS", "CONTACTS", "vx", "vy", *BLOCK_PARAMS, *BLOCK_MOMENT_PARAMS, *CONTACT_PARAMS}
+_KNOWN = {"BLOCKS", "SUPPORTS", "CONTACTS", "vx", "vy", *BLOCK_PARAMS, *BLOCK_MOMENT_PARAMS, *CONTACT_PARAMS,
+          *STRENGTH_PARAMS}
 
 
 def _structure_from_data(path, data) -> Structure:
@@ -329,6 +339,7 @@ def _structure_from_data(path, data) -> Structure:
     bcols = {k: column(k, blocks, "block") for k in BLOCK_PARAMS}
     bcols.update({k: column(k, blocks, "block", default=0.0) for k in BLOCK_MOMENT_PARAMS})
     ccols = {k: column(k, contacts, "contact", numeric=k not in ("block_a", "block_b")) for k in CONTACT_PARAMS}
+    strengths = {k: column(k, contacts, "contact", default=JOINT_DEFAULTS[k]) for k in STRENGTH_PARAMS}
     polygons = defaultdict(list)
     vx, vy = get_param("vx"), get_param("vy")
     for key in sorted(vx, key=lambda t: (str(t[0]), int(t[1]))):
@@ -355,7 +366,7 @@ def _structure_from_data(path, data) -> Structure:
         block_a=[str(v) for v in ccols["block_a"]], block_b=[str(v) for v in ccols["block_b"]],
         centre=np.column_stack([ccols["cx"], ccols["cy"]]).reshape(-1, 2),
         normal=np.column_stack([ccols["nx"], ccols["ny"]]).reshape(-1, 2),
-        d=ccols["d"], mu=ccols["mu"], polygons=dict(polygons))
+        d=ccols["d"], mu=ccols["mu"], polygons=dict(polygons), **strengths)
     try:
         return structure.validate()
     except InputError as exc:

@@ -144,3 +144,22 @@ def validated(structure, where):
     except InputError as exc:  # "structure 'x': ..." -> "<file>: ..."
         raise InputError(f"{where}: {str(exc).split(': ', 1)[1]}") from None
 
+
+
+#: The joints' strengths a JSON object may give (the structure, a body, a joint), each a
+#: stress in the file's force per length squared but the thickness (a length): see
+#: :mod:`lamodel.formulation.joints`.
+STRENGTH_FIELDS = ("fc", "ft", "cohesion", "thickness")
+
+
+def strengths(obj, at) -> dict:
+    """The strengths ``obj`` gives, checked: numbers, fc and thickness > 0, ft and cohesion
+    >= 0 (ft <= fc is checked per contact, once they are combined)."""
+    out = {}
+    for key in STRENGTH_FIELDS:
+        if key in obj:
+            value = number(obj[key], at, f"'{key}'", 0.0)
+            if key in ("fc", "thickness") and value == 0:
+                raise InputError(f"{at}: '{key}' is 0; expected a number > 0 (omit 'fc' for no crushing)")
+            out[key] = value
+    return out

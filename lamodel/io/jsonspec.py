@@ -32,6 +32,13 @@ at the centroid of the polygon. Optional, at the top level (:mod:`lamodel.loads`
   live axle group moved across the top (``positions`` omitted: the top edges' midpoints);
 * ``"units": {"length": "m", "force": "kN"}`` — carried into tables, CSV, pictures, report.
 
+Joints (:mod:`lamodel.formulation.joints`). ``"fc"`` (compressive strength; omitted: no
+crushing), ``"ft"`` (tensile strength), ``"cohesion"`` and ``"thickness"`` (the joints'
+width out of the plane, default 1) at the top level hold for every contact; on a body, for
+its contacts (a contact takes the smaller value of its two bodies); in ``"joints": [{"between":
+["b1", "b2"], "fc": ...}]``, for the contact of those two bodies. Stresses are in the
+file's force per length squared (kN and m: kPa).
+
 When the file gives live point loads or a rolling load but no ``"live_load"``, the blocks'
 own live load is zero: alpha multiplies only the loads written.
 
@@ -66,18 +73,19 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .jsonfields import (blocks_of, body_head, body_support_mu, check_supports, json_object, load_spec, number,
-                         units, validated, warn_unknown, writes_live)
+from .jsonfields import (STRENGTH_FIELDS, blocks_of, body_head, body_support_mu, check_supports, json_object, load_spec,
+                         number, strengths, units, validated, warn_unknown, writes_live)
 from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
-from ..structure import Structure
+from ..structure import JOINT_DEFAULTS, Structure
 
 #: Geometric tolerance relative to the size of the model (diagonal of its bounding box):
 #: points closer than ``DEFAULT_TOLERANCE * size`` are the same point.
 DEFAULT_TOLERANCE = 1e-9
 
 TOP_FIELDS = ("name", "description", "dimension", "mu", "unit_weight", "live_load", "tolerance", "blocks", "loads", "units",
-              "rolling_load")
-BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
+              "rolling_load", "joints", *STRENGTH_FIELDS)
+BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description", *STRENGTH_FIELDS)
+JOINT_FIELDS = ("between", *STRENGTH_FIELDS)
 LOAD_FIELDS = ("block", "at", "force", "kind", "case")
 ROLLING_FIELDS = ("force", "axles", "positions")
 
@@ -119,7 +127,7 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
     rel_tol = number(rel_tol, where, "'tolerance'", 0.0)
 
     # --- per body: id, raw vertices, flags (parsed first: the tolerance needs the size)
-    ids, raw, is_support, mus, dead_over, live_over = [], [], [], [], {}, {}
+    ids, raw, is_support, mus, dead_over, live_over, body_strengths = [], [], [], [], {}, {}, []
     moment_over = {"dead_m": {}, "live_m": {}}
     seen, unknown = {}, set()
     for pos, body in enumerate(bodies):
@@ -134,6 +142,7 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
         support, mu = body_support_mu(body, at, mu_all)
         is_support.append(support)
         mus.append(mu)
+        body_strengths.append(strengths(body, at))
         for key, store in (("dead", dead_over), ("live", live_over)):
             if key in body:
                 if support:
@@ -201,6 +210,7 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
         mu=np.minimum(mus[ia], mus[ib]),
         polygons={b: p for b, p in zip(ids, polygons)},
         dead_m=dead_m, live_m=live_m, units=units(spec, where),
+        **_joint_strengths(spec, where, ids, body_strengths, ia, ib),
     )
     _point_loads(spec, where, structure, tol)
     if "rolling_load" in spec:
@@ -209,6 +219,40 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
             raise InputError(f"{where}: the file has load cases and a rolling load; expected one or the other "
                              "(a rolling load is a study of its own)")
     return validated(structure, where)
+
+
+def _joint_strengths(spec, where, ids, body_strengths, ia, ib) -> dict:
+    """Per contact, the strengths of the module doc: the file's, a body's (the smaller of
+    the two), a joint's; ``{}`` when the file gives none (a dry structure)."""
+    top = strengths(spec, where)
+    joints = spec.get("joints", [])
+    if not isinstance(joints, list):
+        raise InputError(f"{where}: 'joints' is {json.dumps(joints)[:40]}; expected a list of "
+                         "{\"between\": [body, body], ...} objects")
+    if not top and not joints and not any(body_strengths):
+        return {}
+    out = {}
+    for key in STRENGTH_FIELDS:
+        value = np.full(ia.size, top.get(key, JOINT_DEFAULTS[key]))
+        for k, (a, b) in enumerate(zip(ia, ib)):
+            given = [x[key] for x in (body_strengths[a], body_strengths[b]) if key in x]
+            if given:
+                value[k] = min(given)
+        out[key] = value
+    pair = {frozenset((ids[a], ids[b])): k for k, (a, b) in enumerate(zip(ia, ib))}
+    for pos, joint in enumerate(joints):
+        at = f"{where}: joints[{pos}]"
+        json_object(joint, at, "joint", JOINT_FIELDS)
+        between = joint.get("between")
+        if not (isinstance(between, list) and len(between) == 2 and all(isinstance(x, (str, int)) for x in between)):
+            raise InputError(f"{at}: 'between' is {json.dumps(between)[:40]}; expected the ids of its two bodies")
+        k = pair.get(frozenset(map(str, between)))
+        if k is None:
+            raise InputError(f"{at}: '{between[0]}' and '{between[1]}' share no contact; expected two bodies "
+                             "that touch")
+        for key, value in strengths(joint, at).items():
+            out[key][k] = value
+    return out
 
 
 def _point_loads(spec, where, structure, tol):
@@ -344,4 +388,13 @@ def _spec_of_structure(s: Structure) -> dict:
             body["mu"] = body_mu[b]
         blocks.append(body)
     spec["blocks"] = blocks
+    if s.has_materials:  # the joints' strengths: the file's when uniform, else joint by joint
+        uniform = {key: getattr(s, key)[0] for key in STRENGTH_FIELDS
+                   if np.all(getattr(s, key) == getattr(s, key)[0])}
+        spec.update({key: float(v) for key, v in uniform.items() if v != JOINT_DEFAULTS[key]})
+        rest = [key for key in STRENGTH_FIELDS if key not in uniform]
+        if rest:
+            spec["joints"] = [{"between": [s.block_a[k], s.block_b[k]],
+                               **{key: float(getattr(s, key)[k]) for key in rest
+                                  if np.isfinite(getattr(s, key)[k])}} for k in range(s.n_contacts)]
     return spec

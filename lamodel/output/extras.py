@@ -66,7 +66,8 @@ def words_of(outcome, results, dead_u=None) -> list:
     from .words import bound_words, describe, stall_words
     s = outcome.structure
     if outcome.best is not None:
-        return describe(s, outcome.best.u, results.modes(), outcome.best.alpha) + bound_words(results.summary)
+        return describe(s, outcome.best.u, results.modes(), outcome.best.alpha, outcome.best.N) + \
+            bound_words(results.summary)
     if dead_u is not None:
         return ["Under dead load alone (no live load):"] + describe(s, dead_u, modes_from_mechanism(s, dead_u))[1:]
     return [f"No mechanism: {outcome.message}."] + stall_words(s, outcome.stalled)

@@ -171,7 +171,8 @@ def _plot_against(ax, df, varied, study):
             ax.plot(g[x], g["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
         for v in g.loc[~g["certified"], x]:
             ax.axvline(v, color=color, linestyle=":", linewidth=0.8)
-    ax.set_xlabel({"mu": r"friction coefficient $\mu$", "load_angle": "live-load angle (degrees)",
+    ax.set_xlabel({"mu": r"friction coefficient $\mu$", "fc": r"compressive strength $f_c$",
+                   "load_angle": "live-load angle (degrees)",
                    "dead_fx": f"dead force $f_x$ on {study.dead_block}",
                    "dead_fy": f"dead force $f_y$ on {study.dead_block}"}.get(x, x))
     ax.set_ylabel(r"load multiplier $\alpha$")

@@ -66,13 +66,21 @@ def contact_modes(structure: Structure, u, rtol: float = RTOL) -> list:
 
 
 def pivots(structure: Structure, u) -> np.ndarray:
-    """For each contact, the end of the contact segment about which b rotates relative to a.
+    """For each contact, the end of the contact segment about which b rotates relative to a
+    (a crushed joint's: the point inside it where its overlap ends).
 
     It is the end with the smaller relative displacement; when the two are equal it is
     ``centre + d t`` for a positive (counter-clockwise) relative rotation of b, else
     ``centre - d t``, with ``t = (-n_y, n_x)``.
     """
-    _, _, th, gaps = contact_kinematics(structure, u)
+    opening, _, th, gaps = contact_kinematics(structure, u)
     t, c, d = structure.tangent, structure.centre, structure.d
     plus = np.where(np.isclose(gaps[:, 0], gaps[:, 1], rtol=1e-9, atol=0), th > 0, gaps[:, 1] < gaps[:, 0])
-    return c + np.where(plus, 1.0, -1.0)[:, None] * d[:, None] * t
+    out = c + np.where(plus, 1.0, -1.0)[:, None] * d[:, None] * t
+    if getattr(structure, "has_materials", False):
+        # a crushed joint turns about the point inside it where its normal opening
+        # opening - th e (at c + e t) vanishes: the end of its overlap
+        crushed = (np.minimum(opening - th * d, opening + th * d) < 0) & (th != 0)
+        e = np.clip(opening[crushed] / th[crushed], -d[crushed], d[crushed])
+        out[crushed] = c[crushed] + e[:, None] * t[crushed]
+    return out

@@ -28,7 +28,7 @@ from matplotlib.transforms import ScaledTranslation  # noqa: E402
 from ..errors import InputError  # noqa: E402
 from ..structure import Structure  # noqa: E402
 from .kinematics import _block_motion, _point_motion, contact_kinematics, contact_modes, displace, pivots  # noqa: E402,F401
-from .modes import MODES, RTOL, modes_from_mechanism  # noqa: E402,F401
+from .modes import MODES, RTOL, SLIDING, TURNING, modes_from_mechanism  # noqa: E402,F401
 
 
 _BLOCK_REST = dict(facecolor="#e6e6e6", edgecolor="#9a9a9a", linewidth=0.6)
@@ -118,8 +118,8 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     # contact markers, drawn on the displaced picture, carried by block a
     ia, _ = s.contact_blocks()
     legend = []
-    sliding = np.array([m in ("sliding", "sliding+hinging") for m in modes], dtype=bool)
-    hinging = np.array([m in ("hinging", "sliding+hinging") for m in modes], dtype=bool)
+    sliding = np.array([m in SLIDING for m in modes], dtype=bool)
+    hinging = np.array([m in TURNING for m in modes], dtype=bool)
     if sliding.any():
         k = np.flatnonzero(sliding)
         ends = [s.centre[k] - s.d[k, None] * s.tangent[k], s.centre[k] + s.d[k, None] * s.tangent[k]]

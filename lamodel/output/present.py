@@ -88,7 +88,8 @@ class Analysis:
 
 def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=None, picture=True,
             report=None, animate=None, rolling=None, axles=None, positions=None, echo=None, warn=None,
-            command: str | None = None, prove: float | None = None, view=None, inputs: dict | None = None):
+            command: str | None = None, prove: float | None = None, view=None, inputs: dict | None = None,
+            strengths: dict | None = None):
     """Read a structure, solve it, write its result folder and its pictures: what
     ``lamodel solve`` does, with the same files and words.
 
@@ -107,6 +108,8 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     input's warnings (default: Python warnings). ``command`` is named in the report.
     ``prove``: seconds for the proven lower bound ``alpha_lower`` in summary.csv
     (:func:`lamodel.bound.lower_bound`; default a share of the search's own time).
+    ``strengths``: what-ifs ``{"fc", "ft", "cohesion"}`` (None: the file's) on every joint
+    of a planar structure (:func:`lamodel.variants.with_strengths`).
 
     A 3D input (a 3D JSON, a COMPAS assembly, a mesh, or a Structure3D) is solved in space
     (:func:`lamodel.output.present3d.analyse3d`, an :class:`~lamodel.output.present3d.Analysis3D`
@@ -132,11 +135,18 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         painter = Painter()
     try:
         structure = _read(source, warn, inputs)
+        asked = {k: v for k, v in (strengths or {}).items() if v is not None}
         if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
+            if asked:
+                raise InputError(f"--{next(iter(asked))}: the joints' strengths are solved in the plane only; "
+                                 "expected a planar instance")
             return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
                                        report=report, animate=animate, moving=(rolling, axles, positions),
                                        view=view, echo=echo, prove=prove)
         present3d.refuse_spatial_options(inputs, view)
+        if asked:
+            from ..variants import with_strengths
+            structure = with_strengths(structure, **asked)
         return _analyse(structure, source, options, out, method, seed_ga, picture, report, animate,
                         (rolling, axles, positions), echo, command, painter, prove)
     finally:

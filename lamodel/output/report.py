@@ -16,8 +16,10 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
     """The four tables of a solve. Without a certified state, alpha, forces and the
     mechanism are NaN: nothing uncertified is reported as a collapse multiplier.
 
-    Beyond the contract: blocks.csv has ``dead_m``, ``live_m`` (moments of the loads about
-    the centroid, e.g. of point loads, so that an external checker can rebuild eq. 1);
+    Beyond the contract: contacts.csv has the joints' strengths ``fc``, ``ft``,
+    ``cohesion``, ``thickness`` where the structure has some; blocks.csv has ``dead_m``,
+    ``live_m`` (moments of the loads about the centroid, e.g. of point loads, so that an
+    external checker can rebuild eq. 1);
     summary.csv has ``length_unit``, ``force_unit`` ("-" when the input gave none),
     ``residual`` and ``residual_condition`` (the largest relative violation of the
     conditions of a collapse state by the reported one, at most 1e-7, and which condition)
@@ -40,6 +42,10 @@ def outcome_results(outcome: Outcome, extra_summary: dict | None = None) -> Resu
         "contact": s.contacts, "block_a": s.block_a, "block_b": s.block_b,
         "cx": s.centre[:, 0], "cy": s.centre[:, 1], "nx": s.normal[:, 0], "ny": s.normal[:, 1],
         "d": s.d, "mu": s.mu, "N": N, "V": V, "M": M, "mode": modes})
+    if getattr(s, "has_materials", False):  # the joints' strengths (lamodel.formulation.joints)
+        from ..structure import STRENGTH_PARAMS
+        for name in STRENGTH_PARAMS:
+            contacts[name] = getattr(s, name)
     runs = pd.DataFrame([asdict(r) for r in outcome.runs],
                         columns=["start", "source", "alpha_ipopt", "status", "alpha_certified", "iterations",
                                  "seconds", "path"])
@@ -102,7 +108,8 @@ def bound_columns(structure, upper: float, certified: bool, search_seconds: floa
             lb = beside.finish(search_seconds)
         else:
             beside.stop()
-    if not np.isfinite(upper):
+    if not np.isfinite(upper) or getattr(structure, "has_materials", False):
+        # the bound's branch-and-bound knows dry joints only: none with the joints' strengths
         return {"alpha_lower": np.nan, "proven_global": False, "alpha_lower_seconds": 0.0,
                 "alpha_lower_check": "none"}
     if lb is None:

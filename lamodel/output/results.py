@@ -416,10 +416,11 @@ class Results:
         return [str(m) for m in self.contacts["mode"]]
 
     def mode_counts(self) -> pd.Series:
-        """Number of contacts in each mode (every mode of :data:`MODES` listed; ``unknown``
-        only when some contact is)."""
+        """Number of contacts in each mode (every mode of :data:`MODES` listed; ``unknown``,
+        and the crushing modes of joints with strengths, only when some contact is)."""
         counts = self.contacts["mode"].value_counts().reindex(list(MODES), fill_value=0).astype(int)
-        return counts if counts["unknown"] else counts.drop("unknown")  # listed only when it occurs
+        rare = [m for m in ("crushing", "crushing+sliding", "unknown") if not counts[m]]
+        return counts.drop(rare)  # listed only when they occur
 
     # ------------------------------------------------------------------ text
     def to_text(self) -> str:

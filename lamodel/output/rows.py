@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from .modes import modes_from_flow
+from .modes import SLIDING, TURNING, modes_from_flow
 
 
 def mode_counts(structure, xi) -> dict:
-    """Contacts that slip (modes sliding, sliding+hinging), rotate (hinging,
-    sliding+hinging) and open, in a mechanism's flow xi."""
+    """Contacts that slip (modes sliding, sliding+hinging, crushing+sliding), rotate
+    (hinging, sliding+hinging, crushing, crushing+sliding) and open, in a mechanism's flow xi."""
     modes = modes_from_flow(structure, xi)
-    return {"n_sliding": sum(m in ("sliding", "sliding+hinging") for m in modes),
-            "n_hinging": sum(m in ("hinging", "sliding+hinging") for m in modes),
+    return {"n_sliding": sum(m in SLIDING for m in modes),
+            "n_hinging": sum(m in TURNING for m in modes),
             "n_open": sum(m == "open" for m in modes)}
 
 

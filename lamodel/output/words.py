@@ -8,7 +8,9 @@ From a mechanism u and the contact modes (:mod:`.modes`):
 * each **hinge**: the joint (``block_a|block_b``), the end it turns about (the intrados or
   extrados of an arch's radial joint, else the left/right or bottom/top end) and the
   sense of the relative rotation;
-* each **sliding** joint and the direction of the slip.
+* each **sliding** joint and the direction of the slip;
+* each **crushed** joint (finite compressive strength): the end that overlaps and over
+  what length ("the joint crushes over its last 0.12 m at the intrados").
 
 Joints are numbered 1, 2, ... in contact order; the picture (:mod:`.plot`) writes the same
 numbers next to its marks, because both take them from :func:`joint_marks` (up to
@@ -113,21 +115,25 @@ def _sense(theta) -> str:
     return "counter-clockwise" if theta > 0 else "clockwise"
 
 
-def joint_marks(structure: Structure, u, modes) -> list:
-    """Hinges and sliding joints of the mechanism, numbered in contact order."""
+def joint_marks(structure: Structure, u, modes, N=None) -> list:
+    """Hinges, crushed and sliding joints of the mechanism, numbered in contact order
+    (``N``: the collapse state's normal forces, which give a crushed joint's depth)."""
     from .kinematics import contact_kinematics
     s = structure
     u = np.asarray(u, dtype=float).reshape(-1, 3)
-    _, slip, th, gaps = contact_kinematics(s, u)
+    opening, slip, th, gaps = contact_kinematics(s, u)
     centre = ring_centre(s)
     radial = radial_joints(s, centre) if centre is not None else np.array([], dtype=int)
     marks, number = [], 0
     for k, mode in enumerate(modes):
-        if mode not in ("hinging", "sliding", "sliding+hinging"):
+        if mode not in ("hinging", "sliding", "sliding+hinging", "crushing", "crushing+sliding"):
             continue
         number += 1
         a, b = s.block_a[k], s.block_b[k]
         relative = "about it" if a in s.supports else f"relative to {a}"
+        if "crushing" in mode:
+            marks.append(_crushing_mark(s, k, number, opening[k], th[k], centre, radial, relative,
+                                        None if N is None else N[k]))
         if "hinging" in mode:
             # the pivot: the end that moves less (as the picture's pivots); ties by the sense
             tie = np.isclose(gaps[k, 0], gaps[k, 1], rtol=1e-9, atol=0)
@@ -145,6 +151,30 @@ def joint_marks(structure: Structure, u, modes) -> list:
                 text += f": {b} slides {direction(v)} " + ("on it" if a in s.supports else f"relative to {a}")
             marks.append(JointMark(number, s.contacts[k], "sliding", s.centre[k].copy(), v, text))
     return marks
+
+
+def _crushing_mark(s, k, number, opening, th, centre, radial, relative, N=None) -> JointMark:
+    """A crushed joint: the end that overlaps (the ends' normal openings are
+    ``opening -/+ th d``) and over what length: the depth of the compressive stress block
+    that carries N, ``(2 d b f_t - N) / (b (f_c + f_t))`` (without N: where the mechanism's
+    overlap ends, which the polygonal joint places within a facet of it)."""
+    ends = {sign: opening - th * sign * s.d[k] for sign in (-1.0, 1.0)}  # end centre + sign d t
+    sign = min(ends, key=ends.get)
+    low, high = ends[sign], ends[-sign]
+    if N is not None:
+        b, fc, ft = s.thickness[k], s.fc[k], s.ft[k]
+        depth = min(max((2 * s.d[k] * b * ft - N) / (b * (fc + ft)), 0.0), 2 * s.d[k])
+    else:
+        depth = 2 * s.d[k] if high <= 0 else 2 * s.d[k] * (-low) / (high - low)
+    unit = f" {s.units['length']}" if s.units.get("length") else ""
+    where = _end_name(s, k, sign, centre, radial)
+    whole = depth >= 2 * s.d[k] * (1 - 1e-9)
+    text = (f"crushing at {joint_name(s, k)}: " + ("the whole joint crushes" if whole else
+            f"the joint crushes over its last {depth:.3g}{unit} at the {where}"))
+    if th != 0:
+        text += f"; {s.block_b[k]} turns {_sense(th)} {relative}"
+    pivot = s.centre[k] + sign * (s.d[k] - min(depth, 2 * s.d[k])) * s.tangent[k]
+    return JointMark(number, s.contacts[k], "hinge", pivot, np.array([th, 0.0]), text)
 
 
 def moving_blocks(structure: Structure, u, rtol: float = RTOL) -> np.ndarray:
@@ -188,8 +218,9 @@ def _fmt_point(p, unit) -> str:
     return f"({p[0]:.3g}, {p[1]:.3g}){unit}"
 
 
-def describe(structure: Structure, u, modes, alpha=None) -> list:
-    """The mechanism in words: a list of lines (macro-blocks, then numbered joints)."""
+def describe(structure: Structure, u, modes, alpha=None, N=None) -> list:
+    """The mechanism in words: a list of lines (macro-blocks, then numbered joints; ``N``:
+    the normal forces, for the depth of a crushed joint)."""
     s = structure
     u = np.asarray(u, dtype=float).reshape(-1, 3)
     unit = f" {s.units['length']}" if s.units.get("length") else ""
@@ -214,7 +245,7 @@ def describe(structure: Structure, u, modes, alpha=None) -> list:
         else:
             motion = f"translates {direction((ux, uy))}"
         lines.append(f"  macro-block {n} [{names}] {motion}")
-    marks = joint_marks(s, u, modes)
+    marks = joint_marks(s, u, modes, N)
     if marks:
         lines.append("Joints (numbered as in the picture):" if numbered_in_picture(marks) else "Joints:")
         lines += [f"  {m.number}. {m.text}" for m in marks]

@@ -96,8 +96,9 @@ def residuals(lps: LimitLPs, N, V, M, alpha, u, xi) -> dict:
     lighter = np.minimum(np.where(ia >= 0, Sb[np.maximum(ia, 0)], np.inf), np.where(ib >= 0, Sb[np.maximum(ib, 0)],
                                                                                     np.inf))
     Sc = np.maximum.reduce([np.abs(N), np.abs(V), np.abs(M) / d, lighter])
-    Sc4 = np.tile(Sc, 4)                                          # the 4 yield rows of each contact
-    slack_c = np.concatenate([slack[:2 * nc], slack[2 * nc:] / np.tile(d, 2)])
+    kinds = len(slack) // nc                                      # rows a contact, a block of nc each
+    Sc4 = np.tile(Sc, kinds)                                      # the yield rows of each contact
+    slack_c = np.concatenate([slack[:2 * nc], slack[2 * nc:] / np.tile(d, kinds - 2)])
     return {
         "equilibrium": float(np.abs(eq).max() / F),
         "yield": float(max(-slack_f.min(), 0.0) / F),

@@ -370,7 +370,9 @@ def _unstable_message(engine):
         status, x = engine.problem.statics()  # least alpha >= 0 with a statics
     except Stopped:
         return unstable_message()
-    return unstable_message(x[-1] if status == "optimal" else None)
+    message = unstable_message(x[-1] if status == "optimal" else None)
+    crushing = getattr(engine.problem, "crushing_message", None)
+    return message + crushing() if crushing is not None else message
 
 
 def _run_status(engine, status, deadline, asked):

@@ -344,3 +344,11 @@ DEAD_LOAD_ROUNDS = 20
 #: Blocks of least own multiplier tried as mechanisms of that block alone, and the sides of
 #: the polygon inscribed in the cone that ranks them in space (a ranking, not a certificate).
 SINGLE_BLOCKS, SINGLE_BLOCK_FACETS = 4, 8
+
+# ============================================================================ materials
+#: Facets a half of a crushing joint's N-M domain (formulation/joints.py) on the sin^2 grid,
+#: and below its first vertex a fan stepping down by CRUSHING_FAN_RATIO to CRUSHING_FLOOR:
+#: the inscribed polygon keeps >= 99.04% of the stress block's moment, eq. (4) as fc -> inf.
+CRUSHING_FACETS = 16
+CRUSHING_FLOOR = 1e-7
+CRUSHING_FAN_RATIO = 16.0

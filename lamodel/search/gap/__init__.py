@@ -5,7 +5,8 @@ Its pieces, in the order the algorithm runs them (each an object handed the ones
 1. the formulation (:mod:`.program`: the interface the steps below are written against):
    :mod:`.problem` in the plane — the scaled LPs: statics in friction-cone generator
    form, the fictitious cohesive LP whose duals are a mechanism, the way back to the
-   user's units; :mod:`.problem3d` in space — Clarabel's cone programs on the Coulomb cone
+   user's units (:mod:`.strengths` where joints crush, take tension or have cohesion);
+   :mod:`.problem3d` in space — Clarabel's cone programs on the Coulomb cone
    and exact certification LPs on fixed cones;
 2. :mod:`.record` — the best certified state so far, its history, the phase times;
 3. :mod:`.certify` — the certificate of a mechanism (the formulation's held statics,
@@ -35,6 +36,7 @@ from .problem3d import ConeProblem
 from .program import GapProgram
 from .record import Record
 from .starts import Starts
+from .strengths import StrengthProblem
 
 __all__ = ["GapSearch", "formulation_of"]
 
@@ -43,7 +45,10 @@ FORMULATIONS = {Structure: ScaledProblem, Structure3D: ConeProblem}
 
 
 def formulation_of(structure):
-    """The :class:`~lamodel.search.gap.program.GapProgram` class that formulates ``structure`` (planar or in space)."""
+    """The :class:`~lamodel.search.gap.program.GapProgram` class that formulates ``structure`` (planar or in space;
+    a planar one whose joints have strengths: :class:`~.strengths.StrengthProblem`)."""
+    if isinstance(structure, Structure) and structure.has_materials:
+        return StrengthProblem
     for kind, program in FORMULATIONS.items():
         if isinstance(structure, kind):
             return program

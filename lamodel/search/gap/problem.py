@@ -60,16 +60,8 @@ class ScaledProblem(Scoped):
     stable_alpha = STABLE_ALPHA
 
     def __init__(self, structure: Structure, deadline: Deadline | None = None):
-        self.t0 = time.perf_counter()
-        self.user = structure
-        self.deadline = deadline or Deadline()
-        self.F, self.L = scales(structure)
-        s = self.s = scaled(structure, self.F, self.L)
-        self.nb, self.nc = nb, nc = s.n_blocks, s.n_contacts
-        self.form = Formulation.of(s)
-        self.user_form = Formulation.of(structure)
-        self.A, self.f0, self.fbar, self.Y, self.G = self.form.A, self.form.f0, self.form.fbar, self.form.Y, self.form.G
-        self.mu = s.mu
+        s = self._formulate(structure, deadline)
+        nb, nc = self.nb, self.nc
         # light blocks: their equilibrium rows times R, their contacts' forces in units of C
         self.R, self.C = light_scales(s, LIGHT_BLOCK)
         self.row_scale = np.tile(self.C, 4)  # a yield row's slack, and its flow's force, in its contact's units
@@ -116,6 +108,21 @@ class ScaledProblem(Scoped):
         self.work_elsewhere = 0  # and their work
         self.dilatant = None  # (t, HighsLP): the cohesive LP of dilatancy t (see mechanism)
         self.dilatant_done = [0, 0]  # solves and work of the dilatant LPs of other t
+
+    def _formulate(self, structure, deadline):
+        """The scaled structure and its matrices (and the user's, for :meth:`to_user`);
+        returns the scaled structure."""
+        self.t0 = time.perf_counter()
+        self.user = structure
+        self.deadline = deadline or Deadline()
+        self.F, self.L = scales(structure)
+        s = self.s = scaled(structure, self.F, self.L)
+        self.nb, self.nc = s.n_blocks, s.n_contacts
+        self.form = Formulation.of(s)
+        self.user_form = Formulation.of(structure)
+        self.A, self.f0, self.fbar, self.Y, self.G = self.form.A, self.form.f0, self.form.fbar, self.form.Y, self.form.G
+        self.mu = s.mu
+        return s
 
     def _rows(self, M):
         """M (equilibrium rows) with a light block's rows times R; M itself, the same matrix

@@ -6,6 +6,9 @@ written once against :class:`GapProgram`; each formulation implements it:
 
 * in the plane, :class:`~.problem.ScaledProblem`: LPs with HiGHS, statics in friction-cone
   generator form, yield rows (4 a contact: slide +/-, hinge at both ends), warm bases;
+* in the plane with joints that crush, take tension or have cohesion,
+  :class:`~.strengths.StrengthProblem`: the same LPs with explicit slack columns for the
+  bounded domain of each joint (:mod:`lamodel.formulation.joints`);
 * in space, :class:`~.problem3d.ConeProblem`: second-order cone programs with Clarabel on
   the Coulomb cone (point contacts), exact certification on fixed cones with HiGHS
   (:mod:`lamodel.search.certify3d`); rows are 2 a point (opening where ``N = 0``, sliding
@@ -21,7 +24,8 @@ Words used below:
 * the **gap** of a statics for a mechanism is ``alpha_K(N) - alpha = w(u, xi)^T x`` (eq. 5,
   virtual work), linear in the statics;
 * **cohesions** ``c = -mu N`` (one a contact or contact point, ``nc`` of them) define the
-  fictitious cohesive system of the seed.
+  fictitious cohesive system of the seed (a joint's own cohesion ``c0 A`` is the
+  formulation's to add).
 """
 from __future__ import annotations
 

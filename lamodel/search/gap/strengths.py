@@ -1,0 +1,209 @@
+"""The plane's LPs for joints with strengths: crushing, tension, cohesion.
+
+A joint with the strengths of :mod:`lamodel.formulation.joints` has a bounded domain
+``Y s_f <= b`` (the slides with cohesion, the facets of its inscribed N-M polygon), no
+longer a cone: the statics are written with explicit slacks instead of friction-cone
+generators.
+
+* **Statics**: columns ``(sigma, N, V, M, alpha)``, rows ``A s_f + alpha fbar = -f0`` and
+  ``Y s_f + w sigma = b``, ``sigma >= 0``: the slack ``w sigma`` of a yield row is its own
+  column (``w = max(1, |b|)``: a far facet's slack, of the size of the joint's crushing
+  force, stays a number of the size of the forces in sigma, which the search measures
+  tolerances against: unscaled, f_c = 1e9 made every row "active"), so a
+  row is held by bounding its sigma at 0 (as the generator form holds a row by zeroing
+  its lambdas), the gap ``xi^T sigma`` is linear, and every equality LP of the search
+  (the certificate's two, the pressure step's) works unchanged
+  (:class:`~.problem.ScaledProblem`'s methods run on these columns).
+* **Mechanism**: the fictitious system of cohesion ``c0 A - mu N`` (N of the real
+  statics, given as ``c = -mu N`` by the search) with the facets unchanged and
+  associative: columns ``(N, V, M, alpha)``, rows of equilibrium and ``G s_f <= (c + c0 A,
+  beta)``, max alpha. The duals of its yield rows are the flows xi, of its equilibrium
+  rows the motion u, exact from the final basis.
+
+A structure without strengths never comes here: :func:`lamodel.search.gap.formulation_of`
+keeps :class:`~.problem.ScaledProblem`, whose LPs are those of eq. (4).
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import scipy.sparse as sp
+
+from ...formulation.matrices import joint_area
+from ...structure import Structure
+from ..highs import INF, HighsLP
+from ..options import Deadline
+from .problem import ScaledProblem
+
+
+class StrengthProblem(ScaledProblem):
+    """The :class:`~.program.GapProgram` of a planar structure whose joints have strengths
+    (module doc). ``stat``: the statics LP; ``coh`` and ``coh_r``: the fictitious LP (every
+    row may flow; some only); ``dilatant``: (t, that LP with sliding dilating by t mu)."""
+
+    #: the Pyomo model of eq. (5) polished by Ipopt knows no strengths
+    polish = False
+
+    def __init__(self, structure: Structure, deadline: Deadline | None = None):
+        s = self._formulate(structure, deadline)
+        nb, nc = self.nb, self.nc
+        self.b = self.form.b
+        self.cohesion_area = s.cohesion * joint_area(s)  # c0 A: the real joint's own cohesion
+        self.nr = nr = self.Y.shape[0]
+        self.R, self.C = np.ones(3 * nb), np.ones(nc)  # forces already bounded: no light-block scales
+        self.row_scale = np.ones(nr)
+        self.nl = nr  # the sigma columns play the generator form's lambdas
+        self.row_of_pair = sp.identity(nr, format="csr")
+        self.w = np.maximum(1.0, np.abs(self.b))  # a row's slack is w sigma (module doc)
+        # --- statics: columns sigma (nr), s_f (3 nc), alpha
+        A = sp.bmat([[None, self.A, self.fbar.reshape(-1, 1)],
+                     [sp.diags(self.w), self.Y, None]], format="csc")
+        self.free = np.r_[np.zeros(nr), np.full(3 * nc, -INF), 0.0]
+        self.stat = HighsLP(A, np.concatenate([-self.f0, self.b]), np.zeros(A.shape[1]), self.free,
+                            np.full(A.shape[1], INF), "statics")
+        self.obj_scale = float(nb)
+        self.coh = self._fictitious(0.0, "cohesive")
+        self.coh_r = self._fictitious(0.0, "cohesive-r")
+        self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}
+        for lp in self.lps.values():
+            self._trace(lp)
+        self.lps_elsewhere = 0
+        self.work_elsewhere = 0
+        self.dilatant = None
+        self.dilatant_done = [0, 0]
+
+    def work_bound(self):
+        """The generator form's bound times how many more rows these LPs have: the work
+        counts iterations times rows (:attr:`~lamodel.search.highs.HighsLP.work`), and the
+        search should get as many iterations as on the dry joints' LPs (3 nb rows)."""
+        return super().work_bound() * self.stat.m / (3 * self.nb)
+
+    def crushing_message(self) -> str:
+        """Why the structure cannot stand, when its joints' strengths are the reason: the
+        same structure with dry, infinitely strong joints stands (its statics LP is
+        solved once, here); '' otherwise."""
+        dry = replace(self.user, fc=None, ft=None, cohesion=None)
+        status, x = ScaledProblem(dry, self.deadline).statics()
+        if status == "optimal" and x[-1] <= self.stable_alpha:
+            return ("; with dry joints it stands: the joints crush under the dead load "
+                    "(compressive strength fc too small for the forces they carry)")
+        return ""
+
+    def _fictitious(self, t, name):
+        """The fictitious LP (module doc) whose sliding dilates by t mu: rows equilibrium
+        (3 nb) and ``G_t s_f <= bounds`` (nr), columns s_f (3 nc) and alpha; max alpha."""
+        nc = self.nc
+        G = self.G
+        if t > 0:
+            tmu = sp.csr_matrix((np.tile(t * self.mu, 2), (np.arange(2 * nc), np.tile(np.arange(nc), 2))),
+                                shape=G.shape)
+            G = (G + tmu).tocsr()
+        A = sp.bmat([[self.A, self.fbar.reshape(-1, 1)], [G, None]], format="csc")
+        n = 3 * nc + 1
+        cost = np.zeros(n)
+        cost[-1] = -self.obj_scale
+        lo = np.concatenate([-self.f0, np.full(self.nr, -INF)])
+        hi = np.concatenate([-self.f0, self.b])
+        return HighsLP(A, lo, cost, self.free[self.nr:], np.full(n, INF), name, b_hi=hi)
+
+    # ------------------------------------------------------------------- statics
+    def forces(self, x):
+        return x[self.nl:self.nl + 3 * self.nc]
+
+    def N_of(self, x):
+        return x[self.nl:self.nl + self.nc]
+
+    def statics(self, cost_lam=None, held=None, maximize=False, cap=None, alpha_cost=1.0, u=None):
+        """Optimise over S: min (max) alpha_cost alpha + cost_lam^T sigma with the yield rows
+        ``held`` at equality (their sigma bounded at 0). Returns (status, x)."""
+        n = self.stat.n
+        cost = np.zeros(n)
+        cost[-1] = -alpha_cost if maximize else alpha_cost
+        if cost_lam is not None:
+            cost[:self.nl] = cost_lam
+        hi = np.full(n, INF)
+        if held is not None and held.any():
+            hi[:self.nl][held] = 0.0
+        self.stat.set_cost(cost)
+        self.stat.set_bounds(self.free, hi)
+        status = self.stat.solve(cap, self.deadline)
+        if status != "optimal":
+            return status, None
+        x = self.stat.x()
+        x[:self.nl] = np.maximum(x[:self.nl], 0.0)
+        x[-1] = max(x[-1], 0.0)
+        return status, x
+
+    def zeroed(self, held):
+        """The sigma columns that holding the rows ``held`` bounds at 0: theirs."""
+        return np.asarray(held, bool).copy()
+
+    def slack(self, x):
+        return self.w * x[:self.nl]
+
+    def gap_weights(self, xi, u=None):
+        """The weights of x = (sigma, ...) in alpha_K - alpha = xi^T (w sigma) (virtual work)."""
+        return self.w * np.asarray(xi, float)
+
+    def cohesive_N(self, xc):
+        return xc[:self.nc]
+
+    # ----------------------------------------------------------------- mechanism
+    def mechanism(self, c, allowed=None, dilatancy=0.0):
+        """The fictitious LP for cohesions c (the search's ``-mu N``; the joint's own
+        ``c0 A`` is added), flow allowed on rows ``allowed`` only (a row that may not flow
+        is dropped). Returns (status, alpha_as, x, u, xi); ``dilatancy`` t > 0: the LP
+        whose sliding dilates by t mu, every row allowed, its flows those of the seed's
+        system (:meth:`_seed_flows`)."""
+        nc = self.nc
+        c = np.maximum(np.asarray(c, float), 0.0) + self.cohesion_area
+        hi = self.b.copy()
+        hi[:2 * nc] = np.tile(c, 2)
+        if dilatancy > 0:
+            lp = self._dilatant_lp(dilatancy)
+        else:
+            if allowed is not None:
+                hi[~np.asarray(allowed, bool)] = INF
+            lp = self.coh if allowed is None else self.coh_r
+            if lp.cold and not self.coh.cold:
+                lp.h.setBasis(self.coh.h.getBasis())
+                lp.cold = False
+        lp.set_row_bounds(np.concatenate([-self.f0, np.full(self.nr, -INF)]), np.concatenate([-self.f0, hi]))
+        status = lp.solve(deadline=self.deadline)
+        if status != "optimal":
+            return status, np.nan, None, None, None
+        y, _ = lp.exact_duals()
+        u = -y[:3 * self.nb] / self.obj_scale
+        fu = self.fbar @ u
+        if not fu > 0:
+            return "degenerate", np.nan, None, None, None
+        u /= fu
+        xi = np.maximum(-y[3 * self.nb:] / (self.obj_scale * fu), 0.0)
+        if dilatancy > 0:
+            xi = self._seed_flows(xi, dilatancy)
+        elif allowed is not None:
+            xi[~np.asarray(allowed, bool)] = 0.0
+        x = lp.x()
+        return status, float(x[-1]), x, u, self._significant(xi)
+
+    def _dilatant_lp(self, t):
+        """The fictitious LP of dilatancy t, one at a time (as the generator form's)."""
+        if self.dilatant is None or self.dilatant[0] != t:
+            if self.dilatant is not None:
+                old = self.dilatant[1]
+                self.dilatant_done = [self.dilatant_done[0] + old.n_solves, self.dilatant_done[1] + old.work]
+            self.dilatant = (t, self._fictitious(t, "dilatant"))
+        return self.dilatant[1]
+
+    def _seed_flows(self, xi, t):
+        """Flows of the dilatant system as flows of the seed's: a slip s there also opens
+        the joint by t mu |s|; that opening is given to the two facets at the tension end
+        (gradients (a, -/+1), a > 0), so that ``q = G^T xi`` holds with the seed's G."""
+        nc, m = self.nc, (self.nr // self.nc - 2) // 2
+        a0 = self.Y[2 * nc:3 * nc][:, :nc].diagonal()
+        opening = t * self.mu * (xi[:nc] + xi[nc:2 * nc])
+        out = xi.copy()
+        out[2 * nc:3 * nc] += opening / (2 * a0)
+        out[(2 + m) * nc:(3 + m) * nc] += opening / (2 * a0)
+        return out
