@@ -42,10 +42,11 @@ from threadpoolctl import threadpool_limits
 from ..signals import catch_sigint, restore_sigint
 from ..structure import Structure
 from ..structure3d import Structure3D
-from .plan import cores, phase, run as run_plan
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
+from .budget import WorkRule
 from .ipopt import start_pool
 from .options import Deadline, SolveOptions, Stopped
+from .plan import cores, phase, run as run_plan
 from .progress import Progress
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
@@ -135,12 +136,12 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         # BLAS_THREADS while the search runs (the Ipopt workers keep the setting they forked with)
         blas = threadpool_limits(BLAS_THREADS, user_api="blas")
         engine = GapSearch(structure, search_deadline, on_certified=on_certified, on_state=on_state,
-                           first_work=FIRST_WORK if opt.time_limit is None else None)
+                           work=WorkRule(FIRST_WORK, TOTAL_WORK) if opt.time_limit is None else None)
         progress.follow(engine.share)
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
         what, alpha_assoc, lps_first = run_plan(engine, opt, progress, getattr(pool, "client", None), on_associative,
-                                                total_work=TOTAL_WORK, stall_work=STALL_WORK)
+                                                stall_work=STALL_WORK)
         status, message = _verdict(engine, what, alpha_assoc)
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
                         engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),

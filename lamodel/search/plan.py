@@ -52,10 +52,9 @@ def continuations(engine, x_assoc, workers=1):
     return phases.continuations(engine, x_assoc, CONTINUATIONS, workers)
 
 
-def run(engine, opt, progress, client=None, on_associative=None, total_work=None, stall_work=None):
-    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`). ``total_work``: without a time
-    limit, the LP solves of the whole search in units of the first certificate's;
-    ``stall_work``: the GA's stall rule (:mod:`.genetic`). Returns (what, alpha_assoc,
+def run(engine, opt, progress, client=None, on_associative=None, stall_work=None):
+    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`, with its work bounds:
+    :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`). Returns (what, alpha_assoc,
     LP solves of the first certificate): what is 'searched', 'stopped' (a stop or the time
     limit), 'unstable', or the associative LP's failure word."""
     workers = opt.workers or cores()
@@ -77,10 +76,7 @@ def run(engine, opt, progress, client=None, on_associative=None, total_work=None
             engine.record.withdraw()
             return "unstable", alpha_assoc, 0
         lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
-        lp_cap = None  # without a time limit: the LP solves the search may use in all
-        if opt.time_limit is None:  # the continuations and the chain from zero cohesion stop there too
-            lp_cap = total_work * lps_first
-            engine.budget.bound(lp_cap, engine.problem.work_bound())
+        lp_cap = engine.budget.after_first(lps_first)  # the LP solves of the whole search (None: no bound)
         if x0 is not None and np.isfinite(alpha_assoc):
             phase(progress, "continuation")
             continuations(engine, x0, workers)

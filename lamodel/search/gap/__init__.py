@@ -28,7 +28,7 @@ from __future__ import annotations
 from ...structure import Structure
 from ...structure3d import Structure3D
 from ..options import Deadline
-from ..budget import Budget
+from ..budget import Budget, WorkRule
 from .alternation import Alternation
 from .certify import Certifier
 from .chains import Chains
@@ -60,13 +60,13 @@ class GapSearch:
 
     ``deadline``: a :class:`Deadline` (time limit, stop); ``on_certified(state)`` is called
     with every new best certified state (user units), ``on_state(state)`` with every
-    certified state (scaled units). ``first_work``: the first certificate's work bound, in
-    units of the formulation's work bound (None: none; :class:`~lamodel.search.budget.Budget`). Every method raises :class:`~lamodel.search.options.Stopped` when the
+    certified state (scaled units). ``work``: the default run's stopping rule
+    (:class:`~lamodel.search.budget.WorkRule`; None: no work bound, as under a time limit). Every method raises :class:`~lamodel.search.options.Stopped` when the
     deadline fires; after that the search is unusable (its LPs are abandoned).
     """
 
     def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None,
-                 on_state=None, first_work=None):
+                 on_state=None, work: WorkRule | None = None):
         self.problem = formulation_of(structure)(structure, deadline)
         self.record = Record(self.problem, on_certified, on_state)
         self.certifier = Certifier(self.problem, self.record)
@@ -74,8 +74,7 @@ class GapSearch:
         self.alternation = Alternation(self.problem, self.certifier, self.descent, self.record)
         self.near = Near(self.problem, self.certifier, self.descent)
         self.chains = Chains(self.problem, self.certifier, self.descent, self.alternation, self.near)
-        self.budget = Budget(self.problem, first_bound=None if first_work is None
-                             else first_work * self.problem.work_bound())
+        self.budget = Budget(self.problem, work)
         self.lanes = Lanes(self, new_engine=lambda: GapSearch(structure))
         self.fitness = Fitness(self.problem, self.chains, self.record, self.lanes)
 

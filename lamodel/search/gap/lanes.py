@@ -108,9 +108,7 @@ class Lanes:
             return [None] * len(lanes)
         t = time.perf_counter()
         snap = self.snapshot()
-        k = len(lanes)
-        lps = None if budget.work_limit is None else max(0, budget.work_limit - p.n_lps()) // k
-        work = None if budget.work_bound is None else max(0.0, budget.work_bound - budget.work()) / k
+        lps, work = budget.shares(len(lanes))
         tasks = [(run_pure, (snap, lane, start, lps, work, p.deadline)) for lane in lanes]
         log.info("%s: lanes %s", phase, " beside ".join(f"[{', '.join(lane.names)}]" for lane in lanes))
         try:
@@ -134,8 +132,7 @@ class Lanes:
         deadline, where the ``there`` lanes stop."""
         e, budget = self.engine, self.engine.budget
         p = e.problem
-        budget.lane_from = budget.work()
-        left = None if budget.first_bound is None else max(0.0, budget.first_bound - budget.lane_from)
+        left = budget.side_lane()
         t = time.perf_counter()
         raised = []
 

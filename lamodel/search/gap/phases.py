@@ -54,8 +54,8 @@ def stable(engine) -> bool:
 def first_certificate(engine, x_assoc, here, there, workers=1):
     """The gap alternation from the associative statics and, if it certifies nothing, lane
     ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
-    With the budget's ``first_bound`` (the driver's, without a time limit) it ends between
-    two solves once the search's work reaches it (``first_spent`` then tells so)."""
+    With the budget's ``first_bound`` (the default run's, without a time limit) it ends
+    between two solves once the search's work reaches it (``first_spent`` then tells so)."""
     p, budget = engine.problem, engine.budget
     real = p.deadline  # the side lanes stop there, not at the first bound
 
@@ -67,13 +67,13 @@ def first_certificate(engine, x_assoc, here, there, workers=1):
     if budget.first_bound is None:
         return run()
     try:
-        with p.until(budget.bounded(lambda: budget.work() >= budget.first_bound)):
+        with p.until(budget.bounded(budget.first_done)):
             run()
     except Stopped:
         if p.deadline.expired():  # the time limit or a stop: the search's to handle
             raise
         budget.first_spent = True
-    if engine.record.best is None and budget.work() >= budget.first_bound:
+    if engine.record.best is None and budget.first_done():
         budget.first_spent = True  # the side lanes spent it
 
 

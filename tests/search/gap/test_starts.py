@@ -63,7 +63,7 @@ def test_a_continuation_ends_between_two_lps_at_the_work_bound():
     n = free.n_lps()
     Continuation().run(free, Start(x0))
     assert free.n_lps() - n > 3
-    e.budget.work_limit = e.n_lps() + 3
+    e.budget.bound(e.n_lps() + 3)
     Continuation().run(e, Start(x0))
     assert e.n_lps() == e.budget.work_limit
     assert not any(lp.abandoned for lp in e.problem.lps.values())
@@ -78,7 +78,7 @@ def test_the_continuations_stop_at_the_work_bound():
     first_certificate(e, x0)
     work = e.budget.work()
     assert work > 0 and work == sum(lp.work for lp in e.problem.lps.values())
-    e.budget.work_bound = work
+    e.budget.bound(None, work)
     lps = e.n_lps()
     continuations(e, x0)
     assert e.n_lps() == lps
