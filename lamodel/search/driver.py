@@ -6,14 +6,16 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
 1. **Scale.** Forces by the mean dead load of a block, lengths by the size of the
    structure (:mod:`lamodel.formulation.scaling`): every LP and NLP is unit-free; states
    come back in the user's units (:class:`.gap.problem.ScaledProblem`).
-2-4. **The plan** (:mod:`.plan`: phases and lanes in the order they run): the associative
+2. **The plan** (:mod:`.plan`: phases and lanes in the order they run): the associative
    bound; the first certificate (the gap alternation, and where it stalls the lanes
    [rescue, chain from zero cohesion, fixed-point fallback] beside [dilatancy
-   continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`). Without a
+   continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`: no
+   improvement for a while, counted in evaluations and LP solves against those of the
+   first certificate, at most ``generations`` generations, or the time limit). Without a
    time limit the search is bounded by counted work, not time (:mod:`.budget`): the first
    certificate at FIRST_WORK times the formulation's work bound, the whole search at
    TOTAL_WORK times the first certificate's LP solves and WORK_PER_BLOCK LP work a block.
-5. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
+3. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
    its estimated time does not fit the budget. Every Ipopt point is certified again.
@@ -283,7 +285,7 @@ def _polish_plan(structure, opt) -> dict:
 
 
 def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
-    """Step 5: Ipopt from the best distinct certified states; each point certified in the
+    """Step 3: Ipopt from the best distinct certified states; each point certified in the
     engine (its rows held, min alpha, descended), so a better one becomes the best."""
     n = plan["n"]
     if n == 0:

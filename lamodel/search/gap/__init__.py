@@ -61,8 +61,9 @@ class GapSearch:
     ``deadline``: a :class:`Deadline` (time limit, stop); ``on_certified(state)`` is called
     with every new best certified state (user units), ``on_state(state)`` with every
     certified state (scaled units). ``work``: the default run's stopping rule
-    (:class:`~lamodel.search.budget.WorkRule`; None: no work bound, as under a time limit). Every method raises :class:`~lamodel.search.options.Stopped` when the
-    deadline fires; after that the search is unusable (its LPs are abandoned).
+    (:class:`~lamodel.search.budget.WorkRule`; None: no work bound, as under a time limit).
+    Every method raises :class:`~lamodel.search.options.Stopped` when the deadline fires;
+    after that the search is unusable (its LPs are abandoned).
     """
 
     def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None,
