@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .options import Deadline
+from .options import Deadline, Stopped
 
 
 @dataclass(frozen=True)
@@ -35,12 +35,11 @@ class Budget:
         self.first_spent = False
         self._lane_from = 0.0  # the search's work when the first certificate's side lanes began
 
-    def after_first(self, lps_first) -> int | None:
+    def after_first(self, lps_first):
         """The first certificate took ``lps_first`` LP solves: the rule's bounds of the rest
-        of the search set. Returns the LP solves of the whole search (None: no bound)."""
+        of the search set."""
         if self.rule is not None:
             self.bound(self.rule.total * lps_first, self.problem.work_bound())
-        return self.work_limit
 
     def bound(self, work_limit=None, work_bound=None):
         """Bounds of this engine's search from here (None: no bound)."""
@@ -54,6 +53,22 @@ class Budget:
         """The work bounds (LP solves, LP work) are reached."""
         return ((self.work_limit is not None and self.problem.n_lps() >= self.work_limit)
                 or (self.work_bound is not None and self.work() >= self.work_bound))
+
+    def first(self, run, certified):
+        """``run()``, the first certificate, ending between two solves once the search's
+        work reaches ``first_bound`` (``first_spent`` then tells so; ``certified()``: the
+        search has a certified state). The time limit and a stop are the caller's."""
+        if self.first_bound is None:
+            return run()
+        try:
+            with self.problem.until(self.bounded(self.first_done)):
+                run()
+        except Stopped:
+            if self.problem.deadline.expired():
+                raise
+            self.first_spent = True
+        if not certified() and self.first_done():
+            self.first_spent = True  # the side lanes spent it
 
     def first_done(self) -> bool:
         """The first certificate's work bound is reached (False: none)."""

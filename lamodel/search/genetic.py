@@ -15,24 +15,21 @@ from .options import Stopped
 from .tuning import DESCENT_STEP, NO_CERTIFICATE, STALL_WORK, Z_INIT, Z_MAX
 
 
-def genetic_search(engine, opt, client=None, lps_first=None, lp_cap=None, stall_work=STALL_WORK):
-    """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc); with
-    ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
-    in parallel (:mod:`.generations`; ``client``: a Dask connection to use). ``lp_cap``:
-    the search's LP solves in all stop there (None: no cap); ``stall_work``: see stalled."""
+def genetic_search(engine, opt, client=None, lps_first=None, stall_work=STALL_WORK):
+    """pymoo's GA over z with the engine's fitness (module doc); with ``opt.ga_workers`` or
+    ``opt.scheduler`` each generation's evaluations are pure and run in parallel
+    (:mod:`.generations`; ``client``: a Dask connection to use). It stops at the engine's
+    work bounds (:class:`.budget.Budget`); ``stall_work``: see stalled."""
     nc, fitness_of, record = engine.problem.nc, engine.fitness, engine.record
     lps_first = max(engine.n_lps() if lps_first is None else lps_first, 1)  # the first certificate's work
     state = {"evals": 0, "since": 0, "best": record.alpha(), "lps": engine.n_lps()}
 
     def stalled():
-        """The stopping rule: pop_size evaluations and STALL_WORK times the LPs of the
-        first certificate (``stall_work``) without improvement (LPs, not seconds: deterministic); without
-        a time limit, also ``lp_cap`` LPs in all and the work bound (the driver's work
-        bounds; evaluations elsewhere merged in task order count theirs: the same with any
-        number of workers)."""
-        if lp_cap is not None and engine.n_lps() >= lp_cap:
-            return True
-        if engine.budget.work_bound is not None and engine.budget.work() >= engine.budget.work_bound:
+        """The stopping rule: pop_size evaluations and ``stall_work`` times the LPs of the
+        first certificate without improvement (LPs, not seconds: deterministic); without a
+        time limit, also the search's work bounds (evaluations elsewhere merged in task
+        order count theirs: the same with any number of workers)."""
+        if engine.budget.spent():
             return True
         return (state["since"] >= opt.pop_size
                 and engine.n_lps() - state["lps"] >= stall_work * lps_first)

@@ -76,14 +76,14 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
             engine.record.withdraw()
             return "unstable", alpha_assoc, 0
         lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
-        lp_cap = engine.budget.after_first(lps_first)  # the LP solves of the whole search (None: no bound)
+        engine.budget.after_first(lps_first)  # the bounds of the rest of the search (none under a time limit)
         if x0 is not None and np.isfinite(alpha_assoc):
             phase(progress, "continuation")
             continuations(engine, x0, workers)
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         phase(progress, "GA + LP")
-        genetic_search(engine, opt, client, lps_first, lp_cap, stall_work)
+        genetic_search(engine, opt, client, lps_first, stall_work)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first

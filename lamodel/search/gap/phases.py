@@ -8,7 +8,6 @@ import time
 import numpy as np
 
 from ..highs import INF
-from ..options import Stopped
 from .lanes import Start
 
 
@@ -54,27 +53,15 @@ def stable(engine) -> bool:
 def first_certificate(engine, x_assoc, here, there, workers=1):
     """The gap alternation from the associative statics and, if it certifies nothing, lane
     ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
-    With the budget's ``first_bound`` (the default run's, without a time limit) it ends
-    between two solves once the search's work reaches it (``first_spent`` then tells so)."""
-    p, budget = engine.problem, engine.budget
-    real = p.deadline  # the side lanes stop there, not at the first bound
+    Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`)."""
+    real = engine.problem.deadline  # the side lanes stop there, not at the first bound
 
     def run():
         _, x = engine.alternation.alternate(x_assoc, source="gap")
         if engine.record.best is None:
             engine.lanes.alongside(here, there, Start(x_assoc, x), workers, real)
 
-    if budget.first_bound is None:
-        return run()
-    try:
-        with p.until(budget.bounded(budget.first_done)):
-            run()
-    except Stopped:
-        if p.deadline.expired():  # the time limit or a stop: the search's to handle
-            raise
-        budget.first_spent = True
-    if engine.record.best is None and budget.first_done():
-        budget.first_spent = True  # the side lanes spent it
+    engine.budget.first(run, lambda: engine.record.best is not None)
 
 
 def continuations(engine, x_assoc, lanes, workers=1):
