@@ -43,22 +43,24 @@ def diagnose(path, dilatancy=False, from_zero=False):
     from lamodel.errors import InputError
     from lamodel.io import read
     from lamodel.search.gap import GapSearch
+    from lamodel.search.gap.chains import FromZero
+    from lamodel.search.gap.phases import associative
     from lamodel.search.tuning import DILATANCY_STEPS, DILATANCY_TRACK
     s = read(path)
     if not hasattr(s, "n_contacts"):
         raise InputError(f"{path}: a structure in space; benchmarks/stall3d.py diagnoses those")
     cpu = time.process_time()
     engine = GapSearch(s)
-    p, starts = engine.problem, engine.starts
-    status, a_assoc, x = starts.associative()
+    p, alternate = engine.problem, engine.alternation.alternate
+    status, a_assoc, x = associative(engine)
     print(f"{Path(path).name}: {s.n_blocks} blocks, {s.n_contacts} contacts; associative {status} "
           f"{a_assoc:.6f}", flush=True)
     if status != "ok":
         return
     if dilatancy:
         for t in DILATANCY_STEPS:
-            _, x = starts.alternate(x, source="dilatancy", dilatancy=t, max_steps=DILATANCY_TRACK)
-    best, x = starts.alternate(x, source="dilatancy" if dilatancy else "gap")
+            _, x = alternate(x, source="dilatancy", dilatancy=t, max_steps=DILATANCY_TRACK)
+    best, x = alternate(x, source="dilatancy" if dilatancy else "gap")
     print(f"  {'dilatancy continuation' if dilatancy else 'alternation'}: ends at alpha {x[-1]:.6f}, "
           f"certified {'-' if best is None else f'{best.alpha:.6f}'}, {p.n_lps()} LPs", flush=True)
     status, a_k, _, u, xi = p.mechanism(-p.mu * p.N_of(x))
@@ -85,9 +87,8 @@ def diagnose(path, dilatancy=False, from_zero=False):
     print(f"  2. least gap over S for that mechanism: "
           f"{p.gap(xg, xi):.3e}" if st == "optimal" else f"  2. least gap over S: {st}", flush=True)
     if from_zero:
-        p.load_bases({name: None for name in p.save_bases(("coh",))})
         w0 = p.work()
-        found = starts.from_zero()
+        found = FromZero(cold=True).run(engine, None)
         print(f"  3. chain from zero cohesion: certified {'-' if found is None else f'{found.alpha:.6f}'}, "
               f"{(p.work() - w0) / p.work_bound():.2f} default work bounds", flush=True)
     print(f"  {p.n_lps()} LPs, {time.process_time() - cpu:.1f} s CPU")

@@ -103,7 +103,8 @@ def diagnose(case, compas):
     cpu = time.process_time()
     engine = GapSearch(s)
     p = engine.problem
-    status, a_assoc, x_assoc = engine.starts.associative()
+    from lamodel.search.gap.phases import associative
+    status, a_assoc, x_assoc = associative(engine)
     print(f"{case}: {s.n_blocks} blocks, {s.n_points} points; associative {status} {a_assoc:.6f}", flush=True)
     if status != "ok":
         return

@@ -6,32 +6,16 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
 1. **Scale.** Forces by the mean dead load of a block, lengths by the size of the
    structure (:mod:`lamodel.formulation.scaling`): every LP and NLP is unit-free; states
    come back in the user's units (:class:`.gap.problem.ScaledProblem`).
-2. **First certificate.** From the associative statics (:meth:`.gap.starts.Starts.associative`),
-   the gap alternation (:mod:`.gap.alternation`: mechanism step, statics step on
-   ``alpha + rho (alpha_K - alpha)``) until a mechanism's rows can be held
-   (:mod:`.gap.certify`); the certified state is descended (:mod:`.gap.descent`); if
-   nothing is certified (the alternation stalls at a partial optimum: a mechanism no
-   statics can hold), two fallback lanes side by side (:meth:`.gap.starts.Starts.fallbacks`):
-   the rescue and the seed's chains (from zero cohesion, and from the stall:
-   :mod:`.gap.fallback`), and the dilatancy continuation.
-3. **Stability.** Some statics must carry the dead load alone (min alpha over S is 0).
-   Then two lanes side by side (:meth:`.gap.starts.Starts.continuations`): in each, a
-   start from the associative statics, the same alternation with the penalty rho raised
-   from 10 or from 30, which reach other collapse states than the first (1020 blocks:
-   0.444967 against 0.445755), then the seed's chain from zero cohesion
-   (:meth:`.gap.starts.Starts.from_zero`) or the dilatancy continuation; each lane a pure
-   function of the search's state, so the answer does not depend on the threads.
-4. **GA.** Genome z (one gene a contact): cohesions ``c = -mu N_best exp(z)`` around the
-   best certified state. Fitness and local search: :meth:`.gap.fitness.Fitness.evaluate`
-   (the cohesive LP's mechanism, the gap alternation and the seed's fixed-point chain, each
-   certified state descended). Stopping rule: no improvement for a while, measured in
-   evaluations and LP solves against those the first certificate took (counted, not
-   timed: a seed gives the same answer on any machine), at most ``generations``
-   generations, or the time limit; without a time limit, at most TOTAL_WORK times the
-   first certificate's LP solves in all, and at most WORK_PER_BLOCK LP work a block
-   (simplex iterations times rows: about a minute per thousand blocks), continuations
-   included; the first certificate at FIRST_WORK times that work.
-5. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
+2. **The plan** (:mod:`.plan`: phases and lanes in the order they run): the associative
+   bound; the first certificate (the gap alternation, and where it stalls the lanes
+   [rescue, chain from zero cohesion, fixed-point fallback] beside [dilatancy
+   continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`: no
+   improvement for a while, counted in evaluations and LP solves against those of the
+   first certificate, at most ``generations`` generations, or the time limit). Without a
+   time limit the search is bounded by counted work, not time (:mod:`.budget`): the first
+   certificate at FIRST_WORK times the formulation's work bound, the whole search at
+   TOTAL_WORK times the first certificate's LP solves and WORK_PER_BLOCK LP work a block.
+3. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
    its estimated time does not fit the budget. Every Ipopt point is certified again.
@@ -61,15 +45,15 @@ from ..signals import catch_sigint, restore_sigint
 from ..structure import Structure
 from ..structure3d import Structure3D
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
+from .budget import WorkRule
 from .ipopt import start_pool
-from .generations import Generations
 from .options import Deadline, SolveOptions, Stopped
+from .plan import cores, phase, run as run_plan
 from .progress import Progress
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
-from .tuning import (ACTIVE_TOLERANCES, BLAS_THREADS, DEFAULT_STARTS, DESCENT_STEP, EPSILON_LADDER, FIRST_WORK,
-                     IPOPT_GROWTH, IPOPT_ITERATIONS, IPOPT_SECONDS_1020, NO_CERTIFICATE, POLISH_SECONDS, POLISH_SHARE,
-                     STALL_WORK, TOTAL_WORK, Z_INIT, Z_MAX)
+from .tuning import (ACTIVE_TOLERANCES, BLAS_THREADS, DEFAULT_STARTS, EPSILON_LADDER, FIRST_WORK, IPOPT_GROWTH,
+                     IPOPT_ITERATIONS, IPOPT_SECONDS_1020, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK)
 
 log = logging.getLogger(__name__)
 
@@ -145,25 +129,25 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     def on_certified(user_state):
         progress.best(user_state.alpha)
 
-    work = {}  # LP solves of the first phase
     # from here a stop signal only asks the search to stop: the workers started below end with it
     old_handler = catch_sigint(sigint.set)
     pool = blas = engine = None
     runs: list[Run] = []
-    status, message, alpha_assoc = NOT_CERTIFIED, "", np.nan
+    status, message, alpha_assoc, lps_first = NOT_CERTIFIED, "", np.nan, 0
     try:
         # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
         # threads here, and build their models while the LPs run.
         pool = start_pool(_scaled(structure), opt, plan["n"]) if plan["run"] else None
         # BLAS_THREADS while the search runs (the Ipopt workers keep the setting they forked with)
         blas = threadpool_limits(BLAS_THREADS, user_api="blas")
-        engine = GapSearch(structure, search_deadline, on_certified=on_certified)
-        engine.record.on_state = on_state
-        progress.follow(engine.starts.budget_share)
+        engine = GapSearch(structure, search_deadline, on_certified=on_certified, on_state=on_state,
+                           work=WorkRule(FIRST_WORK, TOTAL_WORK) if opt.time_limit is None else None)
+        progress.follow(engine.share)
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
-        status, message, alpha_assoc = _search(engine, opt, progress, getattr(pool, "client", None), work,
-                                                 on_associative)
+        what, alpha_assoc, lps_first = run_plan(engine, opt, progress, getattr(pool, "client", None), on_associative,
+                                                stall_work=STALL_WORK)
+        status, message = _verdict(engine, what, alpha_assoc)
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
                         engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),
                         time.perf_counter() - t_search, path_of(engine.record.best)))
@@ -193,7 +177,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
                    history=list(record.history) if record is not None else [],
-                   lps_first=work.get("first", 0), work=engine.starts.work() if engine is not None else 0,
+                   lps_first=lps_first, work=engine.problem.work() if engine is not None else 0,
                    certification_lps=getattr(engine.problem, "n_lp", 0) if engine is not None else 0,
                    stalled=record.stall if record is not None and best is None and status != UNSTABLE else None)
 
@@ -207,7 +191,7 @@ PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fal
 
 def path_of(state) -> str:
     """Which path of the search certified ``state`` (empty for None): the gap alternation,
-    its rescue, the fixed-point fallback (:mod:`.gap.fallback`), the chain from zero
+    its rescue, the fixed-point fallback (:mod:`.gap.chains`), the chain from zero
     cohesion, a continuation start, the GA or the Ipopt polish; a descent from a state
     keeps its path."""
     if state is None:
@@ -216,126 +200,15 @@ def path_of(state) -> str:
     return PATHS.get(word, word)
 
 
-def _search(engine, opt, progress, client=None, work=None, on_associative=None):
-    """Steps 2-4 of the module doc. Returns (status, message, associative alpha); ``work``
-    (a dict) gets the LP solves of the first phase as ``first``."""
-    work = {} if work is None else work
-    alpha_assoc = np.nan
-    starts, record = engine.starts, engine.record
-    try:
-        kind, alpha_assoc, x0 = starts.associative()
-        engine.fitness.N_assoc = engine.problem.N_of(x0) if x0 is not None else None
-        if kind == "unstable":
-            return UNSTABLE, _unstable_message(engine), np.nan
-        if kind not in ("ok", "unbounded"):
-            return NOT_CERTIFIED, f"the associative LP failed ({kind})", alpha_assoc
-        if on_associative is not None and kind == "ok":
-            on_associative(alpha_assoc)
-        progress.bound(alpha_assoc)
-        log.info("associative bound %.6f (%d LP solves)", alpha_assoc, engine.n_lps())
-        _phase(progress, "first certificate")
-        if opt.time_limit is None:
-            starts.first_bound = FIRST_WORK * engine.problem.work_bound()
-        starts.first_certificate(x0, workers=opt.workers or _cores())
-        # (stable() gives the statics LP back its basis near the collapse states: the GA's
-        # evaluations, pure ones included, start from there, not from alpha = 0)
-        if not starts.stable():
-            record.best = record.best_user = None
-            return UNSTABLE, _unstable_message(engine), alpha_assoc
-        lps_first = work["first"] = engine.n_lps()  # the work of the first certificate (the stopping rule)
-        lp_cap = None  # without a time limit: the LP solves the search may use in all
-        if opt.time_limit is None:  # the continuations and the chain from zero cohesion stop there too
-            starts.work_limit = lp_cap = TOTAL_WORK * lps_first
-            starts.work_bound = engine.problem.work_bound()
-        if x0 is not None and np.isfinite(alpha_assoc):
-            _phase(progress, "continuation")
-            starts.continuations(x0, workers=opt.workers or _cores())
-        # the GA also runs when the first phases stalled: its perturbations of the
-        # associative cohesions are the next way to a certificate
-        _phase(progress, "GA + LP")
-        _genetic_search(engine, opt, client, lps_first, lp_cap)
-    except Stopped:
-        if record.best is None:
-            return _nothing_certified(engine, alpha_assoc, stopped=True)
-    if record.best is None:
-        return _nothing_certified(engine, alpha_assoc, stopped=False)
-    return CERTIFIED, "", alpha_assoc
-
-
-def _phase(progress, name):
-    """A phase begins: on the progress line and in the log."""
-    log.info("phase: %s", name)
-    progress.phase(name)
-
-
-def _genetic_search(engine, opt, client=None, lps_first=None, lp_cap=None):
-    """Step 4: pymoo's GA over z with engine.evaluate as fitness (module doc); with
-    ``opt.ga_workers`` or ``opt.scheduler`` each generation's evaluations are pure and run
-    in parallel (:mod:`.generations`; ``client``: a Dask connection to use). ``lp_cap``:
-    the search's LP solves in all stop there (None: no cap)."""
-    from .ga import genetic_search
-    nc, fitness_of, record = engine.problem.nc, engine.fitness, engine.record
-    lps_first = max(engine.n_lps() if lps_first is None else lps_first, 1)  # the first certificate's work
-    state = {"evals": 0, "since": 0, "best": record.alpha(), "lps": engine.n_lps()}
-
-    def stalled():
-        """The stopping rule: pop_size evaluations and STALL_WORK times the LPs of the
-        first certificate without improvement (LPs, not seconds: deterministic); without
-        a time limit, also ``lp_cap`` LPs in all and the work bound (the driver's work
-        bounds; evaluations elsewhere merged in task order count theirs: the same with any
-        number of workers)."""
-        if lp_cap is not None and engine.n_lps() >= lp_cap:
-            return True
-        if engine.starts.work_bound is not None and engine.starts.work() >= engine.starts.work_bound:
-            return True
-        return (state["since"] >= opt.pop_size
-                and engine.n_lps() - state["lps"] >= STALL_WORK * lps_first)
-
-    def counted(alpha, left=0):
-        """The GA's fitness of an evaluation whose states the engine has taken: the
-        stopping rule's counts follow, and no certificate is worth 10 + the best alpha.
-        ``left``: evaluations of this generation after this one, from the same snapshot
-        (they cannot use the improvement: the stall is counted after them)."""
-        state["evals"] += 1
-        if _better(record.alpha(), state["best"]):
-            state.update(best=record.alpha(), since=-left, lps=engine.n_lps())
-        else:
-            state["since"] += 1
-        return alpha if np.isfinite(alpha) else NO_CERTIFICATE + (state["best"] if np.isfinite(state["best"]) else 0.0)
-
-    def fitness(z):
-        if stalled():  # the rest of this generation is skipped, then the GA stops
-            return math.inf
-        try:
-            # one evaluation (a chain of certified, descended steps) can cost a tenth of the
-            # work bound at 510 blocks: it ends between two LP solves once the bound is
-            # spent (what it certified is in the record already)
-            with engine.problem.until(engine.starts.bounded()):
-                alpha = fitness_of.evaluate(z, opt.chain, reference_N=fitness_of.reference_N())
-        except Stopped:
-            if engine.problem.deadline.expired():
-                raise
-            alpha = math.inf
-        return counted(alpha)
-
-    def take(outcome, left):
-        """One pure evaluation's outcome (generations.py), taken in task order."""
-        alpha, states, lps, learned = outcome
-        fitness_of.merge(states, lps, learned)
-        return counted(alpha, left)
-
-    rng = np.random.default_rng(opt.seed)
-    sigma = np.resize(Z_INIT, opt.pop_size)[:, None]  # small, medium and large perturbations
-    initial = np.clip(sigma * rng.standard_normal((opt.pop_size, nc)), -Z_MAX, Z_MAX)
-    initial[0] = 0.0
-    t = time.perf_counter()
-    try:
-        with Generations(engine, opt, take, stalled, client) as generations:
-            genetic_search(fitness, nc, initial=initial, lower=-Z_MAX, upper=Z_MAX, pop_size=opt.pop_size,
-                           generations=opt.generations, seed=opt.seed, out_of_time=stalled,
-                           batch_fitness=generations.evaluate if generations.parallel else None)
-    finally:
-        record.phase("ga", t)
+def _verdict(engine, what, alpha_assoc):
+    """Status and message of the search (:func:`.plan.run` said ``what``)."""
+    if what == "unstable":
+        return UNSTABLE, _unstable_message(engine)
+    if what not in ("searched", "stopped"):
+        return NOT_CERTIFIED, f"the associative LP failed ({what})"
+    if engine.record.best is None:
+        return _nothing_certified(engine, alpha_assoc, stopped=what == "stopped")[:2]
+    return CERTIFIED, ""
 
 
 def _nothing_certified(engine, alpha_assoc, stopped):
@@ -358,7 +231,7 @@ def _nothing_certified(engine, alpha_assoc, stopped):
             "between piers)"), alpha_assoc
     bound = (f"; the associative multiplier {alpha_assoc:.6g} bounds alpha_c from above"
              if np.isfinite(alpha_assoc) else "")
-    if engine.starts.first_spent and not stopped:
+    if engine.budget.first_spent and not stopped:
         when = (f" within the default run's work bound ({FIRST_WORK:g} times the LP work a search of "
                 f"{engine.problem.nb} blocks is given; --time-limit SECONDS searches for that long instead)")
     return NOT_CERTIFIED, f"no collapse state certified{when}{bound}", alpha_assoc
@@ -384,11 +257,6 @@ def _run_status(engine, status, deadline, asked):
     return text
 
 
-def _better(a, b):
-    """a improves on b (b may be inf: nothing yet)."""
-    return a < b if not math.isfinite(b) else a < b - DESCENT_STEP * max(1.0, abs(b))
-
-
 # --------------------------------------------------------------------- Ipopt polish
 def _scaled(structure):
     from ..formulation.scaling import scaled, scales
@@ -406,7 +274,7 @@ def _polish_plan(structure, opt) -> dict:
     if not formulation_of(structure).polish:
         n = 0
     est = ipopt_seconds(structure.n_blocks)
-    workers = max(1, min(opt.workers or _cores(), n or 1))
+    workers = max(1, min(opt.workers or cores(), n or 1))
     plan = dict(n=n, estimate=est, explicit=explicit, reserve=est * math.ceil(n / workers), why="")
     budget = None if opt.time_limit is None else POLISH_SHARE * opt.time_limit
     if n == 0:
@@ -422,13 +290,8 @@ def _polish_plan(structure, opt) -> dict:
     return plan
 
 
-def _cores():
-    import os
-    return os.cpu_count() or 1
-
-
 def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
-    """Step 5: Ipopt from the best distinct certified states; each point certified in the
+    """Step 3: Ipopt from the best distinct certified states; each point certified in the
     engine (its rows held, min alpha, descended), so a better one becomes the best."""
     n = plan["n"]
     if n == 0:
@@ -442,7 +305,7 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
     for i in range(len(starts) + 1, n + 1):
         rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
                                          f"{'s' if len(starts) != 1 else ''} to start from")
-    _phase(progress, "Ipopt on eq. 5")
+    phase(progress, "Ipopt on eq. 5")
     futures = {}
     for i, st in enumerate(starts, start=1):
         if deadline.left() < plan["estimate"] and deadline.at is not None:
@@ -489,10 +352,10 @@ def _certify_ipopt(engine, fut, i, st) -> Run:
 
 def _certify_point(engine, N, V, M, source):
     """An Ipopt point (scaled units) as a collapse state: the rows it holds within a
-    tolerance may flow (:meth:`.gap.starts.Starts.certify_slack`). The least certified alpha
+    tolerance may flow (:meth:`.gap.near.Near.certify_slack`). The least certified alpha
     at the first tolerance that certifies, or None."""
     s = np.concatenate([N, V, M])
-    return engine.starts.certify_slack(-(engine.problem.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0),
+    return engine.near.certify_slack(-(engine.problem.Y @ s), max(float(np.abs(s).max()), 1.0), np.minimum(N, 0.0),
                                        source, tols=ACTIVE_TOLERANCES, first=True)
 
 

@@ -10,10 +10,10 @@ instead a pure function of
   bases of the statics and cohesive LPs, the reference normal forces, the caches), and
 * its **genome**,
 
-run by :meth:`.gap.fitness.Fitness.evaluate_pure` on an engine of its own. Caps on hard LPs are
+run by :func:`.gap.fitness.evaluate_pure` on an engine of its own. Caps on hard LPs are
 counted in simplex iterations, never seconds, so an evaluation gives the same states on
 any machine and under any load. The search then takes the outcomes in task order
-(driver: ``_genetic_search``), the stopping rule counted in that order too: the certified
+(:mod:`.genetic`), the stopping rule counted in that order too: the certified
 alpha, the tables and the LP count are the same with 1, 2 or 8 threads and on Dask.
 """
 from __future__ import annotations
@@ -34,19 +34,20 @@ def parallel(opt) -> bool:
 
 
 class Evaluators:
-    """Engines of one structure for pure evaluations (:class:`.gap.side_by_side.Engines`).
+    """Engines of one structure for pure evaluations (:class:`.gap.lanes.Engines`).
     It is also what a Dask worker keeps per structure
     (:func:`lamodel.search.executor.context`), so its threads share the engines."""
 
     def __init__(self, structure):
         from .gap import GapSearch
-        from .gap.side_by_side import Engines
+        from .gap.lanes import Engines
         self.structure = structure
         self.engines = Engines(lambda: GapSearch(structure))
 
     def evaluate(self, snap: dict, genome, chain: int, deadline: Deadline):
         """(alpha, states, LP solves, learned) of one genome; raises Stopped at the deadline."""
-        return self.engines.run("evaluate_pure", snap, genome, chain, deadline)
+        from .gap.fitness import evaluate_pure
+        return self.engines.run(evaluate_pure, snap, genome, chain, deadline)
 
 
 def _on_dask_worker(key, structure, snap, genome, chain, deadline):

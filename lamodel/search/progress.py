@@ -5,7 +5,7 @@ none certified yet]`` (a 1,020-block running-bond wall at mu = 0.9): the phase u
 how much of the run's budget is spent, the associative bound (an upper bound on alpha_c,
 known after the first LP) and the best certified alpha so far. The budget is the user's
 time limit or, without one, the work bound that ends the phase under way
-(:meth:`lamodel.search.gap.starts.Starts.budget_share`): counted LP work, so the share is
+(:meth:`lamodel.search.budget.Budget.share`): counted LP work, so the share is
 how far the default run is from its end, whatever the machine. The line is redrawn every
 PROGRESS_REFRESH seconds by a thread of its own, also during a long LP.
 """

@@ -103,13 +103,14 @@ def _searched(structure, opt, stop, on_associative=None) -> Result3D:
 def _method(structure, method, deadline) -> Result3D:
     """One method on the search's pieces (:class:`lamodel.search.gap.GapSearch`)."""
     from .gap import GapSearch
+    from .gap.phases import associative, stable
     from .methods import successive_cone
     from .state import CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, unstable_message
     t0 = time.perf_counter()
     eng = GapSearch(structure, deadline)
     p, out, raw = eng.problem, Result3D(NOT_CERTIFIED, None, np.nan), np.nan
     try:
-        kind, out.associative, x0 = eng.starts.associative()
+        kind, out.associative, x0 = associative(eng)
         if kind == "unstable":
             out.status, out.message = UNSTABLE, unstable_message()
         elif kind == "unbounded":
@@ -127,9 +128,9 @@ def _method(structure, method, deadline) -> Result3D:
             raw = res.alpha
             if res.u is not None:
                 eng.certifier.certify(res.u, p.flows(res.u), ASSOCIATIVE)
-        if eng.record.best is not None and not eng.starts.stable():
+        if eng.record.best is not None and not stable(eng):
             out.status, out.message = UNSTABLE, unstable_message()
-            eng.record.best = eng.record.best_user = None
+            eng.record.withdraw()
     except Stopped:
         out.status = INTERRUPTED
     rec = eng.record

@@ -99,10 +99,10 @@ BELOW_BEST = 1e-9
 #: Stable under dead load: min alpha over S is at most this (non-dimensional): round-off.
 STABLE_ALPHA = 1e-9
 #: The fixed-point fallback where the gap alternation stalls without a certificate
-#: (search/gap/fallback.py): at most FALLBACK_STEPS steps a chain without a certificate,
+#: (search/gap/chains.py: FixedPoint): at most FALLBACK_STEPS steps a chain without a certificate,
 #: and once certified at most FALLBACK_PATIENCE steps without improvement.
 FALLBACK_STEPS, FALLBACK_PATIENCE = 60, 8
-#: The dilatancy continuation (Starts.dilatancy): the fictitious systems whose sliding
+#: The dilatancy continuation (search/gap/dilatancy.py): the fictitious systems whose sliding
 #: dilates by t mu, from t = 1 (the associative system) down to the seed's t = 0, the gap
 #: alternation tracking the statics at each t; 9 steps certified a wall 4 and 19 did not.
 DILATANCY_STEPS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1)

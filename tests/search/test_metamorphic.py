@@ -16,6 +16,8 @@ from lamodel.geometry import arch, seed_wall
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.search.driver import SolveOptions, solve
 from oracle import check_state
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 OPTIONS = SolveOptions(starts=0, progress=False)
 
@@ -115,8 +117,8 @@ def test_residuals_of_an_inexact_state_are_the_same_in_any_units(case):
     if kw.get("perm") == "random":
         kw["perm"] = np.random.default_rng(0).permutation(len(seed_wall(6)["blocks"]))
     e = GapSearch(structure_from_json(transform_spec(seed_wall(6), **kw)))
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
     st = e.record.best
     nc = e.problem.nc
     hinge = 2 * nc + int(np.argmax(st.xi[2 * nc:]))

@@ -11,14 +11,16 @@ from lamodel.search.certify3d import RESIDUAL_TOLERANCE
 from lamodel.search.gap import GapSearch
 from lamodel.search.search3d import solve3d
 from conftest import INSTANCES
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 SEED = ["wall33.dat", "wall55.dat", "arch.json", "portal.json", "portal_columns.json"]
 
 
 def planar_first_certificate(s2):
     eng = GapSearch(s2)
-    _, _, x0 = eng.starts.associative()
-    eng.starts.first_certificate(x0)
+    _, _, x0 = associative(eng)
+    first_certificate(eng, x0)
     return eng.record.first[0]
 
 

@@ -13,11 +13,13 @@ Its pieces, in the order the algorithm runs them (each an object handed the ones
    then the residual test), and its cache;
 4. :mod:`.descent` — from a certified state to lower ones;
 5. :mod:`.alternation` — the gap alternation (gap, hold and near-flow steps);
-6. :mod:`.starts` — where alternations start: the associative statics, the rescue, the
-   continuations (in lanes side by side, :mod:`.side_by_side`), near-active rows,
-   perturbed cohesions and the seed's chain; where an alternation stalls without a
-   certificate, :mod:`.fallback` (the chain from the stall);
-7. :mod:`.fitness` — the GA's evaluation of a genome, and its snapshots.
+6. :mod:`.near` — certification from the rows a stalled statics nearly holds;
+7. :mod:`.chains` — the seed's fixed-point chain (the GA's local search, and the lanes
+   from zero cohesion and from a stall);
+8. the lanes (:mod:`.lanes`: strategies run in turn, lanes side by side as pure
+   evaluations, snapshots and merges): :mod:`.rescue`, :mod:`.chains`,
+   :mod:`.continuation`, :mod:`.dilatancy`; the phases around them (:mod:`.phases`);
+9. :mod:`.fitness` — the GA's evaluation of a genome, and its snapshots.
 
 :class:`GapSearch` builds them for one structure; :func:`lamodel.search.driver.solve` runs
 them. Every constant they use is in :mod:`lamodel.search.tuning`.
@@ -27,15 +29,18 @@ from __future__ import annotations
 from ...structure import Structure
 from ...structure3d import Structure3D
 from ..options import Deadline
+from ..budget import Budget, WorkRule
 from .alternation import Alternation
 from .certify import Certifier
+from .chains import Chains
 from .descent import Descent
 from .fitness import Fitness
+from .lanes import Lanes
+from .near import Near
 from .problem import ScaledProblem
 from .problem3d import ConeProblem
 from .program import GapProgram
 from .record import Record
-from .starts import Starts
 from .strengths import StrengthProblem
 
 __all__ = ["GapSearch", "formulation_of"]
@@ -59,24 +64,33 @@ class GapSearch:
     """The pieces of the search on one structure, built in the order the algorithm runs them.
 
     ``deadline``: a :class:`Deadline` (time limit, stop); ``on_certified(state)`` is called
-    with every new best certified state (user units). Every method raises
-    :class:`~lamodel.search.options.Stopped` when the deadline fires; after that the
-    search is unusable (its LPs are abandoned).
+    with every new best certified state (user units), ``on_state(state)`` with every
+    certified state (scaled units). ``work``: the default run's stopping rule
+    (:class:`~lamodel.search.budget.WorkRule`; None: no work bound, as under a time limit).
+    Every method raises :class:`~lamodel.search.options.Stopped` when the deadline fires;
+    after that the search is unusable (its LPs are abandoned).
     """
 
-    def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None):
+    def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None,
+                 on_state=None, work: WorkRule | None = None):
         self.problem = formulation_of(structure)(structure, deadline)
-        self.record = Record(self.problem, on_certified)
+        self.record = Record(self.problem, on_certified, on_state)
         self.certifier = Certifier(self.problem, self.record)
         self.descent = Descent(self.problem, self.certifier, self.record)
         self.alternation = Alternation(self.problem, self.certifier, self.descent, self.record)
-        self.starts = Starts(self.problem, self.certifier, self.descent, self.alternation, self.record,
-                             new_engine=lambda: GapSearch(structure))
-        self.fitness = Fitness(self.problem, self.certifier, self.descent, self.starts, self.record)
+        self.near = Near(self.problem, self.certifier, self.descent)
+        self.chains = Chains(self.problem, self.certifier, self.descent, self.alternation, self.near)
+        self.budget = Budget(self.problem, work)
+        self.lanes = Lanes(self, new_engine=lambda: GapSearch(structure))
+        self.fitness = Fitness(self.problem, self.chains, self.record, self.lanes)
 
     @property
     def deadline(self) -> Deadline:
         return self.problem.deadline
+
+    def share(self):
+        """The share of the work bounds spent so far (:meth:`~lamodel.search.budget.Budget.share`)."""
+        return self.budget.share(self.lanes.running)
 
     def n_lps(self) -> int:
         return self.problem.n_lps()

@@ -12,7 +12,7 @@
   without them.
 
 Whenever the gap is small the mechanism is certified and the certified state descended.
-With a dilatancy t > 0 (:meth:`~.starts.Starts.dilatancy`) the mechanism step is that of
+With a dilatancy t > 0 (:class:`~.dilatancy.Dilatancy`) the mechanism step is that of
 the fictitious system whose sliding dilates by t mu, cohesions ``-(1 - t) mu N``; the gap
 is the same ``slack^T xi`` (:func:`~lamodel.formulation.matrices.dilatant_flows`), and
 nothing is certified or held: that system's collapse states are not the real one's.

@@ -126,7 +126,7 @@ class GapProgram(Protocol):
         ``dilatancy`` t > 0: the system whose sliding dilates by t mu (friction t mu besides
         the cohesions; t = 1, c = 0 is the associative system), every row allowed; its xi
         are such that ``gap(x, xi, u) = alpha_K - alpha`` still (the dilatancy
-        continuation, :meth:`~.starts.Starts.dilatancy`)."""
+        continuation, :class:`~.dilatancy.Dilatancy`)."""
 
     # ----------------------------------------------------------- certification
     def iteration_cap(self) -> int | None:

@@ -12,6 +12,11 @@ from .program import GapProgram
 log = logging.getLogger(__name__)
 
 
+def least(best, st):
+    """The lesser of two certified states (either may be None)."""
+    return st if st is not None and (best is None or st.alpha < best.alpha) else best
+
+
 class Record:
     """The best certified state so far.
 
@@ -20,10 +25,10 @@ class Record:
     residual check in the user's units too.
     """
 
-    def __init__(self, problem: GapProgram, on_certified=None):
+    def __init__(self, problem: GapProgram, on_certified=None, on_state=None):
         self.problem = problem
         self.on_certified = on_certified
-        self.on_state = None
+        self.on_state = on_state
         self.best: CollapseState | None = None      # scaled units
         self.best_user: CollapseState | None = None
         self.first = None                           # (alpha, seconds) of the first certificate
@@ -57,10 +62,16 @@ class Record:
         """The best certified alpha (inf if none)."""
         return self.best.alpha if self.best is not None else float("inf")
 
-    def forget(self):
-        """No state found yet (a pure evaluation starts so)."""
-        self.best = self.best_user = self.first = None
+    def forget(self, best=None, on_state=None):
+        """No state found yet (a pure evaluation starts so, below ``best``, a scaled state
+        or None), every certified state told to ``on_state``."""
+        self.best_user = self.first = None
+        self.best, self.on_state = best, on_state
         self.history = []
+
+    def withdraw(self):
+        """No certified state counts (the structure does not stand under its dead load)."""
+        self.best = self.best_user = None
 
     def take(self, state: CollapseState):
         """A certified state (scaled units): a new best if it improves on the best."""

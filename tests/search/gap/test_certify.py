@@ -4,6 +4,7 @@ import numpy as np
 from lamodel.search.gap import GapSearch
 
 from .helpers import collapse_violation, wall
+from lamodel.search.gap.phases import associative
 
 
 def test_certification_needs_the_held_lambdas_at_zero_not_a_small_gap():
@@ -11,7 +12,7 @@ def test_certification_needs_the_held_lambdas_at_zero_not_a_small_gap():
     that the certification holds gives a state whose held lambdas are exactly zero."""
     e = GapSearch(wall(6))
     p = e.problem
-    _, _, x0 = e.starts.associative()
+    _, _, x0 = associative(e)
     best, _ = e.alternation.alternate(x0)
     assert best is not None
     lam = best.lam[:p.nl]
@@ -27,7 +28,7 @@ def test_a_certificate_is_cached_by_flow_pattern_and_told_to_the_record():
     e = GapSearch(s)
     seen = []
     e.record.on_state = seen.append
-    _, _, x0 = e.starts.associative()
+    _, _, x0 = associative(e)
     best, _ = e.alternation.alternate(x0)
     n = len(seen)
     assert n >= 1 and e.record.best is not None

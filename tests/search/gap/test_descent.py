@@ -2,12 +2,13 @@
 from lamodel.search.gap import GapSearch
 
 from .helpers import bond, collapse_violation
+from lamodel.search.gap.phases import associative
 
 
 def test_descent_never_raises_alpha_and_is_cached():
     s = bond(5, width=5, mu=0.9)
     e = GapSearch(s)
-    _, _, x0 = e.starts.associative()
+    _, _, x0 = associative(e)
     p = e.problem
     # from the first state the chain certifies, whatever it is
     st = None

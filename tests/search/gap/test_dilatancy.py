@@ -10,6 +10,9 @@ from lamodel.search.gap.problem import ScaledProblem
 from lamodel.search.gap.problem3d import ConeProblem
 
 from .helpers import bond, collapse_violation, wall
+from lamodel.search.gap.dilatancy import Dilatancy
+from lamodel.search.gap.lanes import Start
+from lamodel.search.gap.phases import associative
 
 
 @pytest.mark.parametrize("t", [0.0, 0.3, 1.0])
@@ -66,11 +69,11 @@ def test_in_space_a_dilatant_mechanism_keeps_the_gap(t):
 @pytest.mark.parametrize("structure", [wall(6), bond(6, width=8, mu=1.0)], ids=["wall33", "bond6x8_mu1"])
 def test_the_continuation_certifies_exact_collapse_states(structure):
     e = GapSearch(structure)
-    _, _, x0 = e.starts.associative()
-    st = e.starts.dilatancy(x0)
+    _, _, x0 = associative(e)
+    st = Dilatancy().run(e, Start(x0))
     assert st is not None and st.source.startswith("dilatancy")
     assert collapse_violation(structure, e.problem.to_user(st)) <= 1e-7
-    assert e.starts.dilatancy(x0) is st  # once a search
+    assert Dilatancy().run(e, Start(x0)) is st  # once a search
 
 
 def test_where_the_continuation_stalls_the_chain_from_its_stall_certifies():
@@ -79,8 +82,8 @@ def test_where_the_continuation_stalls_the_chain_from_its_stall_certifies():
     fixed-point chain from that stall then certifies an exact collapse state."""
     s = bond(10, width=10, mu=0.9)
     e = GapSearch(s)
-    _, _, x0 = e.starts.associative()
-    st = e.starts.dilatancy(x0)
+    _, _, x0 = associative(e)
+    st = Dilatancy().run(e, Start(x0))
     assert st is not None and st.source.startswith("dilatancy-fixed")
     assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7
 
@@ -88,6 +91,6 @@ def test_where_the_continuation_stalls_the_chain_from_its_stall_certifies():
 def test_the_continuation_in_space():
     s = box_on_ground(1.0, 0.5, 2.0, 0.6, (0.0, 1.0, 0.0))
     e = GapSearch(s)
-    _, _, x0 = e.starts.associative()
-    st = e.starts.dilatancy(x0)
+    _, _, x0 = associative(e)
+    st = Dilatancy().run(e, Start(x0))
     assert st is not None and st.alpha == pytest.approx(0.25, abs=1e-6)

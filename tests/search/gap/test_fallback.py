@@ -3,9 +3,14 @@ import numpy as np
 
 from lamodel.geometry import seed_wall
 from lamodel.io.jsonspec import structure_from_json
-from lamodel.search.gap import GapSearch, fallback as fallback_module
+from lamodel.search.gap import GapSearch
+from lamodel.search.gap.chains import FixedPoint
+from lamodel.search.gap.dilatancy import Dilatancy
 
 from .helpers import collapse_violation
+from lamodel.search.gap.chains import FromZero
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 
 def _wall33(mu):
@@ -19,7 +24,7 @@ def test_the_alternation_stalls_on_a_mechanism_no_statics_holds_at_mu_09():
     statics holds admit no mechanism."""
     e = GapSearch(_wall33(0.9))
     p = e.problem
-    _, _, x0 = e.starts.associative()
+    _, _, x0 = associative(e)
     best, x = e.alternation.alternate(x0)
     assert best is None and e.record.best is None
     _, _, _, u, xi = p.mechanism(-p.mu * p.N_of(x))
@@ -35,19 +40,20 @@ def test_the_first_certificate_falls_back_to_the_chains_and_certifies(monkeypatc
     dilatancy continuation, the first certificate (alternation and rescue) certifies
     nothing on that panel; with the fallback alone, the chain from the stall certifies a
     state that passes the independent check, below the associative bound."""
-    from lamodel.search.gap.starts import Starts
     s = _wall33(0.9)
-    monkeypatch.setattr(Starts, "from_zero", lambda self: None)
-    monkeypatch.setattr(Starts, "dilatancy", lambda self, x: None)
-    monkeypatch.setattr("lamodel.search.gap.starts.fallback", lambda *args, **kwargs: None)
+    monkeypatch.setattr(FromZero, "run", lambda self, engine, start: None)
+    monkeypatch.setattr(Dilatancy, "run", lambda self, engine, start: None)
+    monkeypatch.setattr(FixedPoint, "run", lambda self, engine, start: None)
     e = GapSearch(s)
-    _, a_assoc, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, a_assoc, x0 = associative(e)
+    first_certificate(e, x0)
     assert e.record.best is None
-    monkeypatch.setattr("lamodel.search.gap.starts.fallback", fallback_module.fallback)
+    monkeypatch.undo()
+    monkeypatch.setattr(FromZero, "run", lambda self, engine, start: None)
+    monkeypatch.setattr(Dilatancy, "run", lambda self, engine, start: None)
     e = GapSearch(s)
-    _, a_assoc, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, a_assoc, x0 = associative(e)
+    first_certificate(e, x0)
     st = e.record.best
     assert st is not None and st.source.startswith("fixed-point")
     assert st.alpha <= a_assoc + 1e-9
@@ -61,10 +67,10 @@ def test_the_chain_stops_after_its_patience():
     counts = []
     for patience in (None, 2):
         e = GapSearch(s)
-        _, _, x0 = e.starts.associative()
+        _, _, x0 = associative(e)
         p = e.problem
         n = p.n_lps()
-        st = e.starts.chain(-p.mu * p.N_of(x0), 40, patience=patience)
+        st = e.chains.chain(-p.mu * p.N_of(x0), 40, patience=patience)
         assert st is not None
         counts.append(p.n_lps() - n)
     assert counts[1] < counts[0]
@@ -77,8 +83,8 @@ def test_the_chain_from_zero_cohesion_reaches_the_least_known_state_of_the_panel
     (--method mpec): before the GA, so it does not depend on luck."""
     s = _wall33(0.9)
     e = GapSearch(s)
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
     st = e.record.best
     assert st is not None and st.alpha <= 0.617365 and st.source.startswith("zero-cohesion")
-    assert e.starts.from_zero().alpha <= 0.617365  # run once
+    assert FromZero().run(e, None).alpha <= 0.617365  # run once

@@ -8,12 +8,14 @@ from lamodel.search.gap import GapSearch
 
 from conftest import INSTANCES
 from .helpers import collapse_violation, wall
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 
 def _after_first_certificate(name):
     e = GapSearch(read(INSTANCES / name))
-    _, _, x0 = e.starts.associative()
-    e.fitness.N_assoc = e.problem.N_of(x0)
+    _, _, x0 = associative(e)
+    e.fitness.associative(x0)
     e.alternation.alternate(x0)
     assert e.record.best is not None
     return e
@@ -27,9 +29,9 @@ def _evaluator(e):
 def test_evaluate_genome():
     s = wall(6)
     e = GapSearch(s)
-    _, _, x0 = e.starts.associative()
-    e.fitness.N_assoc = e.problem.N_of(x0)
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    e.fitness.associative(x0)
+    first_certificate(e, x0)
     a0 = e.record.best.alpha
     f = e.fitness.evaluate(np.random.default_rng(0).normal(scale=0.3, size=s.n_contacts), chain_steps=3)
     assert np.isfinite(f) and f >= e.record.best.alpha - 1e-12   # fitness: a certified alpha

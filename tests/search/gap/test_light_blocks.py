@@ -9,6 +9,8 @@ from lamodel.io import read
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.search.gap import GapSearch
 from lamodel.search.tuning import LIGHT_BLOCK
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 
 def tiny_on_huge():
@@ -44,16 +46,16 @@ def test_the_light_block_decides_the_search(monkeypatch):
     LPs without them see only the big block (it slides at 0.6) and certify nothing."""
     s = tiny_on_huge()
     g = GapSearch(s)
-    kind, alpha, x = g.starts.associative()
+    kind, alpha, x = associative(g)
     assert kind == "ok" and alpha == pytest.approx(0.25, abs=1e-9)
-    g.starts.first_certificate(x)
+    first_certificate(g, x)
     assert g.record.best_user.alpha == pytest.approx(0.25, abs=1e-9)
     assert max(g.record.best_user.residual.values()) < 1e-7
 
     import lamodel.search.gap.problem as problem
     monkeypatch.setattr(problem, "LIGHT_BLOCK", 0.0)
     g = GapSearch(s)
-    kind, alpha, x = g.starts.associative()
+    kind, alpha, x = associative(g)
     assert alpha == pytest.approx(0.6, abs=1e-6)
-    g.starts.first_certificate(x)
+    first_certificate(g, x)
     assert g.record.best is None

@@ -5,12 +5,14 @@ from lamodel.search.gap import GapSearch
 from lamodel.search.gap.problem import ScaledProblem
 
 from .helpers import bond, collapse_violation, wall
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 
 def _first_certificate(structure):
     e = GapSearch(structure)
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
     assert e.record.best is not None
     return e
 

@@ -11,6 +11,8 @@ from lamodel.search.gap.program import GapProgram
 from lamodel.structure3d import Structure3D
 
 from .helpers import wall
+from lamodel.search.gap.phases import associative, stable
+from lamodel.search.plan import first_certificate
 
 
 @pytest.mark.parametrize("make", [lambda: wall(6), lambda: box_on_ground(1.0, 0.5, 2.0)])
@@ -36,11 +38,11 @@ def test_the_same_steps_certify_in_the_plane_and_in_space(make, alpha):
     # associative bound, then the gap alternation, certification and descent of the first
     # certificate: the same objects on either formulation
     e = GapSearch(make())
-    kind, a_assoc, x0 = e.starts.associative()
+    kind, a_assoc, x0 = associative(e)
     assert kind == "ok" and a_assoc >= alpha - 1e-9
-    e.starts.first_certificate(x0)
+    first_certificate(e, x0)
     assert e.record.best_user is not None
     assert e.record.best_user.alpha == pytest.approx(alpha, abs=1e-6)
     assert max(e.record.best_user.residual.values()) <= 1e-7
-    assert e.starts.stable()
+    assert stable(e)
     assert e.n_lps() > 0 and np.isfinite(e.record.alpha())

@@ -4,13 +4,15 @@ import dataclasses
 from lamodel.search.gap import GapSearch
 
 from .helpers import wall
+from lamodel.search.gap.phases import associative
+from lamodel.search.plan import first_certificate
 
 
 def test_only_improvements_are_recorded_and_announced():
     heard = []
     e = GapSearch(wall(6), on_certified=heard.append)
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
     r = e.record
     best, n = r.best, len(r.history)
     assert best is not None and n == len(heard) >= 1

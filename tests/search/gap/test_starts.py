@@ -5,6 +5,10 @@ from lamodel.search.gap import GapSearch
 from lamodel.search.tuning import RHO_CONTS
 
 from .helpers import bond, collapse_violation
+from lamodel.search.gap.continuation import Continuation
+from lamodel.search.gap.lanes import Start
+from lamodel.search.gap.phases import associative, stable
+from lamodel.search.plan import continuations, first_certificate
 
 
 def test_continuation_starts_certify_and_give_the_lps_their_bases_back():
@@ -13,19 +17,19 @@ def test_continuation_starts_certify_and_give_the_lps_their_bases_back():
     states that pass the independent check, never above the associative bound."""
     s = bond(6, width=8)
     e = GapSearch(s)
-    _, a_assoc, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
-    e.starts.stable()
+    _, a_assoc, x0 = associative(e)
+    first_certificate(e, x0)
+    stable(e)
     lps = e.problem.lps
     before = {name: lp.portable_basis() for name, lp in lps.items()}
-    e.starts.continuations(x0)
+    continuations(e, x0)
     for name, lp in lps.items():
         after = lp.portable_basis()
         if before[name] is None:
             assert after is None
         else:
             assert all(np.array_equal(b, a) for b, a in zip(before[name], after))
-    found = [e.starts.continuation(x0, rhos) for rhos in RHO_CONTS]
+    found = [Continuation(rhos).run(e, Start(x0)) for rhos in RHO_CONTS]
     assert any(st is not None for st in found)
     for st in found:
         if st is not None:
@@ -38,9 +42,9 @@ def test_near_active_rows_certify_a_stalled_statics():
     certify a state no lower than what the whole search can reach, and a valid one."""
     s = bond(4, width=6)
     e = GapSearch(s)
-    _, a_assoc, x0 = e.starts.associative()
+    _, a_assoc, x0 = associative(e)
     _, x = e.alternation.alternate(x0)
-    st = e.starts.certify_near(x, "near")
+    st = e.near.certify(x, "near")
     assert st is not None and st.alpha <= a_assoc + 1e-9
     assert collapse_violation(s, e.problem.to_user(st)) <= 1e-7
 
@@ -51,17 +55,17 @@ def test_a_continuation_ends_between_two_lps_at_the_work_bound():
     in the record."""
     s = bond(6, width=8)
     e = GapSearch(s)
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
     free = GapSearch(s)
-    free.starts.associative()
-    free.starts.first_certificate(x0)
+    associative(free)
+    first_certificate(free, x0)
     n = free.n_lps()
-    free.starts.continuation(x0)
+    Continuation().run(free, Start(x0))
     assert free.n_lps() - n > 3
-    e.starts.work_limit = e.n_lps() + 3
-    e.starts.continuation(x0)
-    assert e.n_lps() == e.starts.work_limit
+    e.budget.bound(e.n_lps() + 3)
+    Continuation().run(e, Start(x0))
+    assert e.n_lps() == e.budget.work_limit
     assert not any(lp.abandoned for lp in e.problem.lps.values())
     assert e.problem.statics()[0] == "optimal"
 
@@ -70,13 +74,13 @@ def test_the_continuations_stop_at_the_work_bound():
     """With the LP work already at the driver's bound the continuation starts (and the chain
     from zero cohesion) solve no LP; the work counted is that of the LPs solved."""
     e = GapSearch(bond(6, width=8))
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
-    work = e.starts.work()
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
+    work = e.budget.work()
     assert work > 0 and work == sum(lp.work for lp in e.problem.lps.values())
-    e.starts.work_bound = work
+    e.budget.bound(None, work)
     lps = e.n_lps()
-    e.starts.continuations(x0)
+    continuations(e, x0)
     assert e.n_lps() == lps
 
 
@@ -86,7 +90,7 @@ def _with_one_and_two_threads(s, run):
     outcomes = []
     for workers in (1, 2):
         e = GapSearch(s)
-        _, _, x0 = e.starts.associative()
+        _, _, x0 = associative(e)
         found = []
         e.record.on_state = lambda st: found.append((st.alpha, st.source))
         run(e, x0, workers)
@@ -100,16 +104,16 @@ def test_the_continuation_lanes_give_the_same_answer_with_any_number_of_threads(
     the work left: one thread or two, the same certified states in the same order, the same
     LP solves and work counted, the same caches learned."""
     def lanes(e, x0, workers):
-        e.starts.first_certificate(x0)
-        e.starts.stable()
-        e.starts.continuations(x0, workers=workers)
+        first_certificate(e, x0)
+        stable(e)
+        continuations(e, x0, workers=workers)
 
     (a, found_a), (b, found_b) = _with_one_and_two_threads(bond(6, width=8, mu=1.0), lanes)
     assert found_a and found_a == found_b
     assert a.record.alpha() == b.record.alpha() <= min(alpha for alpha, _ in found_a)
-    assert (a.n_lps(), a.starts.work()) == (b.n_lps(), b.starts.work())
+    assert (a.n_lps(), a.budget.work()) == (b.n_lps(), b.budget.work())
     assert a.certifier.cache.keys() == b.certifier.cache.keys()
-    assert a.starts._from_zero is not None and a.starts._dilatancy is not None
+    assert "from zero" in a.lanes.ran and "dilatancy" in a.lanes.ran
 
 
 def test_a_stop_during_the_lanes_keeps_what_they_certified():
@@ -126,15 +130,15 @@ def test_a_stop_during_the_lanes_keeps_what_they_certified():
     s = bond(10, width=25, mu=0.9)
     stop = threading.Event()
     e = GapSearch(s, deadline=Deadline(None, stop.is_set))
-    _, _, x0 = e.starts.associative()
-    e.starts.first_certificate(x0)
+    _, _, x0 = associative(e)
+    first_certificate(e, x0)
     found = []
     e.record.on_state = found.append
     timer = threading.Timer(1.0, stop.set)
     timer.start()
     t = time.perf_counter()
     with pytest.raises(Stopped):
-        e.starts.continuations(x0, workers=2)
+        continuations(e, x0, workers=2)
     assert time.perf_counter() - t < 5.0
     assert all(e.record.alpha() <= st.alpha for st in found)
     assert not any(lp.abandoned for lp in e.problem.lps.values())
@@ -152,12 +156,12 @@ def test_the_fallback_lanes_of_the_first_certificate_give_the_same_answer_with_a
     from lamodel.io.jsonspec import structure_from_json
     s = structure_from_json(seed_wall(6, mu=0.9))
     (a, found_a), (b, found_b) = _with_one_and_two_threads(
-        s, lambda e, x0, workers: e.starts.first_certificate(x0, workers=workers))
+        s, lambda e, x0, workers: first_certificate(e, x0, workers=workers))
     assert found_a and found_a == found_b
     assert {src.split("-")[0] for _, src in found_a} >= {"zero", "dilatancy"}
-    assert (a.n_lps(), a.starts.work()) == (b.n_lps(), b.starts.work())
-    assert a.starts._from_zero is not None and a.starts._dilatancy is not None
+    assert (a.n_lps(), a.budget.work()) == (b.n_lps(), b.budget.work())
+    assert "from zero" in a.lanes.ran and "dilatancy" in a.lanes.ran
     assert collapse_violation(s, a.record.best_user) <= 1e-7
     n = a.n_lps()
-    assert a.starts.stable() and a.n_lps() == n + 1
-    assert a.record.alpha() <= 0.617365 and a.record.alpha() <= a.starts.associative()[1] + 1e-9
+    assert stable(a) and a.n_lps() == n + 1
+    assert a.record.alpha() <= 0.617365 and a.record.alpha() <= associative(a)[1] + 1e-9

@@ -1,0 +1,43 @@
+"""A continuation: the gap alternation from the associative statics on another penalty
+ladder, into other collapse states than the main ladder's."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+from ..options import Stopped
+from ..tuning import RHO_CONTS, RHO_HIGH
+from .record import least
+
+
+@dataclass(frozen=True)
+class Continuation:
+    """A start from the associative statics on the penalty ladder ``rhos``: a low rho lets
+    alpha fall far before the gap is squeezed out (the penalty method's continuation).
+    Where it stalls below the best certified alpha, rho goes on up (RHO_HIGH) and the rows
+    the statics nearly holds are certified. It ends early, between two LP solves, once the
+    work bounds are spent. Returns the least certified state of the start (or None; what it
+    certified before an early end is in the record)."""
+
+    rhos: tuple = RHO_CONTS[0]
+    name = "continuation"
+    once = None
+
+    def run(self, engine, start):
+        t = time.perf_counter()
+        p, near, alternate, record = engine.problem, engine.near, engine.alternation.alternate, engine.record
+        try:
+            with p.until(engine.budget.bounded()):
+                best, x = alternate(start.x_assoc, rhos=self.rhos, source="continuation")
+                if near.stalled_below(x, record.best):
+                    st, x = alternate(x, rhos=RHO_HIGH, source="continuation")
+                    best = least(best, st)
+                    if near.stalled_below(x, record.best):
+                        best = least(best, near.certify(x, "continuation-near"))
+            return best
+        except Stopped:
+            if p.deadline.expired():  # the time limit or a stop: the search's to handle
+                raise
+            return None
+        finally:
+            record.phase("continuation", t)

@@ -1,0 +1,73 @@
+"""The phases of the search that are not lanes: the associative statics, the first
+certificate (the gap alternation, and lanes where it stalls), stability; and the
+continuations' lanes. The plan (:mod:`lamodel.search.plan`) names the lanes."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..highs import INF
+from .lanes import Start
+
+
+def associative(engine):
+    """Stability and the associative bound. Returns (status, alpha_assoc, x_assoc): status
+    'ok', 'unstable' (S is empty), 'unbounded' (x: a least-alpha statics) or HiGHS's word."""
+    t = time.perf_counter()
+    p = engine.problem
+    try:
+        status, x = p.statics(maximize=True)
+        if status == "infeasible":
+            return "unstable", np.nan, None
+        if status == "unbounded":
+            _, x = p.statics()  # least alpha instead: start somewhere finite
+            return "unbounded", INF, x
+        if status != "optimal":
+            return status, np.nan, None
+        return "ok", float(x[-1]), x
+    finally:
+        engine.record.phase("associative", t)
+
+
+def stable(engine) -> bool:
+    """Some statics carries the dead load alone (min alpha over S is 0).
+
+    Solved warm from the last basis (a certification LP's, near the least alpha): cheap
+    after a certificate, where a cold start costs as much as the associative LP.
+    """
+    t = time.perf_counter()
+    p = engine.problem
+    before = p.save_bases(("stat",))
+    try:
+        status, x = p.statics()
+        return status == "optimal" and x[-1] <= p.stable_alpha
+    finally:
+        # Back to the basis near the collapse states: from the alpha = 0 vertex every
+        # later certification LP of a 1020-block wall hit its iteration cap (6120
+        # iterations, 4.4 s each) and the exploration certified nothing.
+        p.load_bases(before, restart_cold=False)
+        engine.record.phase("stability", t)
+
+
+def first_certificate(engine, x_assoc, here, there, workers=1):
+    """The gap alternation from the associative statics and, if it certifies nothing, lane
+    ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
+    Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`)."""
+    real = engine.problem.deadline  # the side lanes stop there, not at the first bound
+
+    def run():
+        _, x = engine.alternation.alternate(x_assoc, source="gap")
+        if engine.record.best is None:
+            engine.lanes.alongside(here, there, Start(x_assoc, x), workers, real)
+
+    engine.budget.first(run, lambda: engine.record.best is not None)
+
+
+def continuations(engine, x_assoc, lanes, workers=1):
+    """``lanes`` side by side (:meth:`.lanes.Lanes.beside`), without the once-a-search
+    strategies the first certificate ran. The LPs keep the bases they had before them (the
+    lanes run on engines of their own), so that what follows starts where it would
+    without them."""
+    ran = engine.lanes.ran
+    return engine.lanes.beside([lane.without(ran) for lane in lanes], Start(x_assoc), workers)

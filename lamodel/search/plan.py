@@ -1,0 +1,100 @@
+"""The search, as phases and lanes in the order they run (the names of the log and of
+runs.csv's ``path``; how each works: docs/method/search.md):
+
+1. **associative** — max alpha over the statics: the upper bound, and the first statics;
+2. **first certificate** — the gap alternation from there; if it stalls, lane
+   [rescue, chain from zero cohesion, fixed-point fallback] (on the search's engine, until
+   one certifies) beside lane [dilatancy continuation];
+3. **stability** — some statics carries the dead load alone;
+4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
+   lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
+   already is left out);
+5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
+6. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
+
+Lanes beside each other are pure evaluations on engines of their own, merged in the
+order written: the same answer with any number of workers (:mod:`.gap.lanes`).
+"""
+from __future__ import annotations
+
+import logging
+import os
+
+import numpy as np
+
+from .gap.chains import FixedPoint, FromZero
+from .gap.continuation import Continuation
+from .gap.dilatancy import Dilatancy
+from .gap.lanes import Lane
+from .gap import phases
+from .gap.phases import associative, stable
+from .gap.rescue import Rescue
+from .genetic import genetic_search
+from .options import Stopped
+from .tuning import RHO_CONTS
+
+log = logging.getLogger(__name__)
+
+#: Where the gap alternation stalls: here (the search's engine), then beside it.
+IF_STALLED = Lane((Rescue(), FromZero(cold=True), FixedPoint()), until_certified=True)
+BESIDE_STALLED = (Lane((Dilatancy(),)),)
+#: After stability: the continuation lanes.
+CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
+
+
+def first_certificate(engine, x_assoc, workers=1):
+    """Phase 2 (:func:`.gap.phases.first_certificate`) with the lanes above."""
+    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers)
+
+
+def continuations(engine, x_assoc, workers=1):
+    """Phase 4 (:func:`.gap.phases.continuations`) with the lanes above."""
+    return phases.continuations(engine, x_assoc, CONTINUATIONS, workers)
+
+
+def run(engine, opt, progress, client=None, on_associative=None, stall_work=None):
+    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`, with its work bounds:
+    :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`). Returns (what, alpha_assoc,
+    LP solves of the first certificate): what is 'searched', 'stopped' (a stop or the time
+    limit), 'unstable', or the associative LP's failure word."""
+    workers = opt.workers or cores()
+    alpha_assoc, lps_first = np.nan, 0
+    try:
+        kind, alpha_assoc, x0 = associative(engine)
+        engine.fitness.associative(x0)
+        if kind == "unstable" or kind not in ("ok", "unbounded"):
+            return kind, alpha_assoc, 0
+        if on_associative is not None and kind == "ok":
+            on_associative(alpha_assoc)
+        progress.bound(alpha_assoc)
+        log.info("associative bound %.6f (%d LP solves)", alpha_assoc, engine.n_lps())
+        phase(progress, "first certificate")
+        first_certificate(engine, x0, workers)
+        # (stability gives the statics LP back its basis near the collapse states: the GA's
+        # evaluations, pure ones included, start from there, not from alpha = 0)
+        if not stable(engine):
+            engine.record.withdraw()
+            return "unstable", alpha_assoc, 0
+        lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
+        engine.budget.after_first(lps_first)  # the bounds of the rest of the search (none under a time limit)
+        if x0 is not None and np.isfinite(alpha_assoc):
+            phase(progress, "continuation")
+            continuations(engine, x0, workers)
+        # the GA also runs when the first phases stalled: its perturbations of the
+        # associative cohesions are the next way to a certificate
+        phase(progress, "GA + LP")
+        genetic_search(engine, opt, client, lps_first, stall_work)
+    except Stopped:
+        return "stopped", alpha_assoc, lps_first
+    return "searched", alpha_assoc, lps_first
+
+
+def phase(progress, name):
+    """A phase begins: on the progress line and in the log."""
+    log.info("phase: %s", name)
+    progress.phase(name)
+
+
+def cores():
+    """The worker threads of the lanes by default: all cores."""
+    return os.cpu_count() or 1
