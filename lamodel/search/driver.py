@@ -186,7 +186,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
 #: The paths that certify a state, by the first word of its source (runs.csv, ``path``).
 PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fallback",
          "zero": "chain from zero cohesion", "continuation": "continuation", "dilatancy": "dilatancy continuation",
-         "genome": "GA", "ipopt": "Ipopt polish"}
+         "genome": "GA", "ipopt": "Ipopt polish", "single": "single block"}
 
 
 def path_of(state) -> str:

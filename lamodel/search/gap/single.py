@@ -13,6 +13,7 @@ like every other state.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -110,3 +111,15 @@ def single_blocks(problem, certifier, x, source="single-block"):
         if st is not None:
             return st
     return None
+
+
+@dataclass(frozen=True)
+class SingleBlocks:
+    """The strategy of a lane (:mod:`.lanes`): :func:`single_blocks` for the cohesions of
+    the associative statics."""
+
+    name = "single block"
+    once = None
+
+    def run(self, engine, start):
+        return single_blocks(engine.problem, engine.certifier, start.x_assoc)
