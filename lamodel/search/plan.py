@@ -3,8 +3,8 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
 2. **first certificate** — the gap alternation from there; if it stalls, lane
-   [rescue, chain from zero cohesion, fixed-point fallback] (on the search's engine, until
-   one certifies) beside lane [dilatancy continuation];
+   [single block, rescue, chain from zero cohesion, fixed-point fallback] (on the search's
+   engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
 4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
    lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
@@ -29,6 +29,7 @@ from .gap.lanes import Lane
 from .gap import phases
 from .gap.phases import associative, stable
 from .gap.rescue import Rescue
+from .gap.single import SingleBlocks
 from .genetic import genetic_search
 from .options import Stopped
 from .tuning import RHO_CONTS
@@ -36,7 +37,7 @@ from .tuning import RHO_CONTS
 log = logging.getLogger(__name__)
 
 #: Where the gap alternation stalls: here (the search's engine), then beside it.
-IF_STALLED = Lane((Rescue(), FromZero(cold=True), FixedPoint()), until_certified=True)
+IF_STALLED = Lane((SingleBlocks(), Rescue(), FromZero(cold=True), FixedPoint()), until_certified=True)
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
 #: After stability: the continuation lanes.
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
