@@ -60,3 +60,14 @@ def test_a_slender_block_on_a_wide_one_overturns_alone_at_its_closed_form():
     assert own[s.blocks.index("top")] == pytest.approx(0.25, abs=1e-9)
     assert st is not None and st.alpha == pytest.approx(0.25, abs=1e-9)
     assert check_state(s, engine.problem.to_user(st)) == pytest.approx(0.25, abs=1e-9)
+
+
+@pytest.mark.slow
+def test_the_default_search_certifies_a_stepped_pyramid_at_its_top_box():
+    """Through the whole search (the single-block lane where the alternation stalls): the
+    14-box pyramid pushed at 30 degrees, certified at mu, the state checked by the oracle."""
+    from lamodel.search.driver import SolveOptions, solve
+    s = structure3d_from_spec(pyramid(3, 0.5, 30.0))
+    out = solve(s, SolveOptions())
+    assert out.status == "certified" and out.best.alpha == pytest.approx(0.5, abs=1e-7)
+    assert max(out.best.residual.values()) <= 1e-7
