@@ -48,6 +48,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError, OutputError
+from .spec_values import check_keys, number, numbers, sd_of
 from .structure import Structure
 from .variants import with_block_sizes, with_dead_force, with_friction, with_load_angle, with_strengths
 
@@ -59,8 +60,6 @@ RUN_COLUMNS = ("seconds", "attempts", "worker", "error")
 SPEC_KEYS = ("name", "structure", "seed", "options", "vary", "random", "description")
 VARY_KEYS = ("mu", "fc", "load_angle", "dead_force")
 OPTION_KEYS = ("starts", "time_limit", "pop_size", "generations", "chain", "xi_factor", "solver")
-#: values of one range of a spec beyond which it is refused at once
-MAX_RANGE = 10**6
 #: variants a study may ask for unless its runner allows more (``lamodel study --max-variants``)
 MAX_VARIANTS = 10_000
 
@@ -94,102 +93,44 @@ class Study:
 
 
 # ------------------------------------------------------------------------- the spec
-def _numbers(value, where) -> list[float]:
-    """A number, a list of numbers, or a range {from, to, num | step} (both ends kept)."""
-    if isinstance(value, dict):
-        unknown = set(value) - {"from", "to", "num", "step"}
-        if unknown or "from" not in value or "to" not in value or ("num" in value) == ("step" in value):
-            raise InputError(f"{where}: expected a range {{\"from\": a, \"to\": b, \"num\": n}} or "
-                             f"{{\"from\": a, \"to\": b, \"step\": h}}, got {json.dumps(value)}")
-        a, b = _number(value["from"], where), _number(value["to"], where)
-        if "num" in value:
-            n = value["num"]
-            if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-                raise InputError(f"{where}: num is {n!r}; expected a whole number >= 1")
-            _check_count(n, where)
-            values = np.linspace(a, b, n) if n > 1 else np.array([a])
-        else:
-            h = _number(value["step"], where)
-            if h == 0 or (b - a) / h < 0:
-                raise InputError(f"{where}: step {h:g} does not lead from {a:g} to {b:g}")
-            n = math.floor((b - a) / h + 1e-9) + 1
-            _check_count(n, where)
-            values = a + h * np.arange(n)
-        return [round(float(v), 12) for v in values]  # 0.1 steps give 0.3, not 0.30000000000000004
-    if isinstance(value, list):
-        if not value:
-            raise InputError(f"{where}: the list is empty; expected at least one value")
-        return [_number(v, where) for v in value]
-    return [_number(value, where)]
-
-
-def _check_count(n, where):
-    if n > MAX_RANGE:  # refused before any list is made (memory)
-        raise InputError(f"{where}: the range has {n:.6g} values; expected at most {MAX_RANGE}")
-
-
-def _number(value, where) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}: {json.dumps(value)} is not a finite number")
-    return float(value)
-
-
-def _check_keys(d, allowed, where):
-    if not isinstance(d, dict):
-        raise InputError(f"{where}: expected a JSON object, got {json.dumps(d)[:60]}")
-    unknown = sorted(set(d) - set(allowed))
-    if unknown:
-        raise InputError(f"{where}: unknown key '{unknown[0]}'; expected {', '.join(allowed)}")
-
-
-def _sd(d, where) -> float:
-    _check_keys(d, ("sd", "per") if where.endswith("mu") else ("sd",), where)
-    if "sd" not in d:
-        raise InputError(f"{where}: 'sd' is missing; expected a standard deviation >= 0")
-    sd = _number(d["sd"], f"{where}.sd")
-    if sd < 0:
-        raise InputError(f"{where}.sd is {sd:g}; expected a standard deviation >= 0")
-    return sd
-
-
 def study_from_dict(spec: dict, structure: Structure, where: str = "study spec") -> Study:
     """A Study from a parsed spec and its (already read) base structure."""
-    _check_keys(spec, SPEC_KEYS, where)
+    check_keys(spec, SPEC_KEYS, where)
     from .search.options import SolveOptions
     options = spec.get("options", {})
-    _check_keys(options, OPTION_KEYS, f"{where}: options")
+    check_keys(options, OPTION_KEYS, f"{where}: options")
     SolveOptions(**options)  # one line on a bad option, before any worker starts
     seed = spec.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise InputError(f"{where}: seed is {seed!r}; expected a whole number >= 0")
     vary = spec.get("vary", {})
-    _check_keys(vary, VARY_KEYS, f"{where}: vary")
+    check_keys(vary, VARY_KEYS, f"{where}: vary")
     grid, dead_block = [], None
     if "mu" in vary:
-        mus = _numbers(vary["mu"], f"{where}: vary.mu")
+        mus = numbers(vary["mu"], f"{where}: vary.mu")
         if min(mus) < 0:
             raise InputError(f"{where}: vary.mu has {min(mus):g}; expected friction coefficients >= 0")
         grid.append(("mu", mus))
     if "fc" in vary:
-        fcs = _numbers(vary["fc"], f"{where}: vary.fc")
+        fcs = numbers(vary["fc"], f"{where}: vary.fc")
         if min(fcs) <= 0:
             raise InputError(f"{where}: vary.fc has {min(fcs):g}; expected compressive strengths > 0")
         grid.append(("fc", fcs))
     if "load_angle" in vary:
-        grid.append(("load_angle", _numbers(vary["load_angle"], f"{where}: vary.load_angle")))
+        grid.append(("load_angle", numbers(vary["load_angle"], f"{where}: vary.load_angle")))
     if "dead_force" in vary:
         force = vary["dead_force"]
-        _check_keys(force, ("block", "fx", "fy"), f"{where}: vary.dead_force")
+        check_keys(force, ("block", "fx", "fy"), f"{where}: vary.dead_force")
         dead_block = str(force.get("block", ""))
         if dead_block not in structure.block_index():
             raise InputError(f"{where}: vary.dead_force.block '{dead_block}' is not a movable block of "
                              f"'{structure.name}'; expected one of {', '.join(structure.blocks[:6])}, ...")
-        grid.append(("dead_fx", _numbers(force.get("fx", 0.0), f"{where}: vary.dead_force.fx")))
-        grid.append(("dead_fy", _numbers(force.get("fy", 0.0), f"{where}: vary.dead_force.fy")))
+        grid.append(("dead_fx", numbers(force.get("fx", 0.0), f"{where}: vary.dead_force.fx")))
+        grid.append(("dead_fy", numbers(force.get("fy", 0.0), f"{where}: vary.dead_force.fy")))
     random = None
     if "random" in spec:
         r = spec["random"]
-        _check_keys(r, ("count", "seed", "mu", "size"), f"{where}: random")
+        check_keys(r, ("count", "seed", "mu", "size"), f"{where}: random")
         count = r.get("count")
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise InputError(f"{where}: random.count is {count!r}; expected a whole number >= 1")
@@ -204,11 +145,11 @@ def study_from_dict(spec: dict, structure: Structure, where: str = "study spec")
         random = {"count": count}
         if "mu" in r:
             per = r["mu"].get("per", "contact") if isinstance(r["mu"], dict) else None
-            random["mu"] = {"sd": _sd(r["mu"], f"{where}: random.mu"), "per": per}
+            random["mu"] = {"sd": sd_of(r["mu"], f"{where}: random.mu"), "per": per}
             if per not in ("contact", "structure"):
                 raise InputError(f"{where}: random.mu.per is {per!r}; expected 'contact' or 'structure'")
         if "size" in r:
-            random["size"] = {"sd": _sd(r["size"], f"{where}: random.size")}
+            random["size"] = {"sd": sd_of(r["size"], f"{where}: random.size")}
     name = str(spec.get("name") or structure.name)
     return Study(name, structure, dict(options), tuple((c, tuple(v)) for c, v in grid), dead_block, random, seed)
 

@@ -105,3 +105,10 @@ def test_the_stop_signals_and_the_process_sit_below_the_search():
     graph = import_graph()
     assert graph["lamodel.signals"] == set()
     assert graph["lamodel.process"] <= {"lamodel.signals", "lamodel.errors"}
+
+
+def test_no_module_is_longer_than_a_reader_can_follow():
+    """One job per file: none over 450 lines (split by job when one grows past it)."""
+    long = {str(p.relative_to(ROOT)): n for p in PACKAGE.rglob("*.py")
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > 450}
+    assert long == {}

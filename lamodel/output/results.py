@@ -20,9 +20,8 @@ A result folder holds (the output contract; other code and external checkers rel
     one of :data:`MODES`.
 ``runs.csv``
     one row per start of the solver: start, source, alpha_ipopt, status, alpha_certified,
-    iterations, seconds; the search writes one more, path (which path of the search
-    certified that start's state: gap alternation, rescue, fixed-point fallback,
-    continuation, GA, Ipopt polish; empty when none).
+    iterations, seconds; the search writes one more, path (the lane of the plan that
+    certified that start's state, :mod:`lamodel.search.plan`; empty when none).
 
 Sign conventions are those of :mod:`lamodel.structure`. Floats are written with 17
 significant digits and read back with Python's correctly rounded parser, so a
@@ -43,6 +42,7 @@ import pandas as pd
 from ..errors import InputError
 from .folder import TABLE_FILES, ResultFolder
 from .modes import MODES
+from .text import aligned
 
 
 # Column name -> kind, in contract order. Kinds: "id" (text, never empty), "str" (text),
@@ -433,7 +433,7 @@ class Results:
                              for name, v in row.items())
         modes = self.mode_counts().rename("contacts").to_frame()
         modes.index.name = None
-        runs = _aligned(self.runs, fmt) if len(self.runs) else "(no runs)"
+        runs = aligned(self.runs, fmt) if len(self.runs) else "(no runs)"
         return "\n".join([
             f"Limit analysis of '{self.instance}'",
             "",
@@ -448,23 +448,3 @@ class Results:
 
     def __str__(self) -> str:
         return self.to_text()
-
-
-def _aligned(table: pd.DataFrame, fmt) -> str:
-    """``table`` as text, numbers right-aligned and text left-aligned under their names (a
-    long status then widens its own column only)."""
-    def cell(v, text):
-        if text:
-            return "" if pd.isna(v) else " ".join(str(v).splitlines())
-        if isinstance(v, (float, np.floating)):
-            return "NaN" if np.isnan(v) else fmt(v)
-        return str(v)
-
-    columns = []
-    for name in table.columns:
-        text = table[name].dtype in (object, bool)
-        cells = [cell(v, text) for v in table[name]]
-        width = max(len(name), *map(len, cells))
-        columns.append([f"{c:<{width}}" if text else f"{c:>{width}}" for c in [name, *cells]])
-    return "\n".join("  ".join(row).rstrip() for row in zip(*columns))
-
