@@ -101,6 +101,8 @@ def single_blocks(problem, certifier, x, source="single-block"):
     failed certification can cost a minute. Not descended here: on a 204-box pyramid the
     certificate took 3 s and its descent 181 s (six cone programs, none lower); the
     search's later phases start from it."""
+    if problem.slack(x).size != rows_of(problem, 0).size:
+        return None  # rows of another kind (joints with strengths): no single-block ranking of them
     c = -problem.mu * problem.N_of(x)
     for alpha_j, j in ranked(problem, c)[:SINGLE_BLOCKS]:
         status, _, _, u, xi = problem.mechanism(c, rows_of(problem, j))

@@ -71,3 +71,15 @@ def test_the_default_search_certifies_a_stepped_pyramid_at_its_top_box():
     out = solve(s, SolveOptions())
     assert out.status == "certified" and out.best.alpha == pytest.approx(0.5, abs=1e-7)
     assert max(out.best.residual.values()) <= 1e-7
+
+
+def test_joints_with_strengths_are_left_to_the_other_lanes():
+    """Their rows (the N-M polygon's facets) are not the four a contact the ranking knows:
+    the lane steps aside, it never guesses."""
+    rect = lambda x0, y0, x1, y1: [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]  # noqa: E731
+    spec = {"name": "strong", "mu": 0.9, "live_load": [1.0, 0.0], "unit_weight": 1.0, "fc": 50.0,
+            "blocks": [{"id": "ground", "support": True, "vertices": rect(-3, -1, 3, 0)},
+                       {"id": "base", "vertices": rect(-2, 0, 2, 1)},
+                       {"id": "top", "vertices": rect(-0.25, 1, 0.25, 3)}]}
+    engine, st = run(structure_from_json(spec))
+    assert type(engine.problem).__name__ == "StrengthProblem" and st is None
