@@ -14,7 +14,8 @@ from contextlib import contextmanager
 from .arguments import SEED, rolling_arguments, seconds, strength_arguments, tolerance, whole
 from .io.options3d import add_input_arguments, check_build_options, input_options  # argparse only: light
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
-                      exit_status, interrupted, run_reporting, unwatch_signals, watch_signals)
+                      exit_status, interrupted, run_reporting)
+from .signals import unwatch_signals, watch_signals
 
 
 class _Usage(Exception):

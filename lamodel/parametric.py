@@ -48,7 +48,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError, OutputError
-from .spec_values import check_keys, number, numbers, sd_of
+from .spec_values import check_keys, numbers, sd_of
 from .structure import Structure
 from .variants import with_block_sizes, with_dead_force, with_friction, with_load_angle, with_strengths
 

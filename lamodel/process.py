@@ -15,7 +15,7 @@ import sys
 import threading
 import time
 
-from .signals import STOP_SIGNALS, remove_staged, stop_signal, unwatch_signals, watch_signals  # noqa: F401
+from .signals import STOP_SIGNALS, remove_staged, stop_signal
 
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_NOT_CERTIFIED = 0, 1, 2, 3
 
