@@ -164,11 +164,11 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     record = engine.record if engine is not None else None
     if record is not None and record.best_user is not None and status in (NOT_CERTIFIED, CERTIFIED):
         status = CERTIFIED
-    if asked():
+    if budget.asked():
         status, message = INTERRUPTED, "interrupted: the best certified state so far is reported"
     elif status == CERTIFIED:
         message = "certified collapse state"
-    if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and budget.expired() and not asked():
+    if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and budget.expired() and not budget.asked():
         message += " (the time limit stopped the search)"
     runs.sort(key=lambda r: r.start)
     best = record.best_user if record is not None and status in (CERTIFIED, INTERRUPTED) else None
