@@ -1,11 +1,23 @@
-"""The search's work bounds, counted in LP solves and LP work (simplex iterations times
-rows), not timed: a seed gives the same answer on any machine. Under a time limit none is
-set: the deadline (:class:`.options.Deadline`, on every solve) is the search's only bound."""
+"""One budget a search runs under: the user's time cap and the work counted in LP solves
+and LP work (simplex iterations times rows).
+
+The time cap (``--time-limit``, and a stop: Ctrl-C, a caller's predicate) is a
+:class:`~.options.Deadline` made once, by :meth:`Budget.for_solve`. The work bounds are
+counted, not timed, so a seed gives the same answer on any machine: without a time limit
+the default rule (:class:`WorkRule`) sets them; under one none is set and the time cap is
+the search's only bound. Every solve of an engine reads its budget's :attr:`Budget.deadline`
+at the call (HiGHS's interrupt callback, Clarabel's time limit): it expires at the time
+cap, a stop, or once the work bounds that apply are spent, between two solves. Lanes run
+elsewhere are given child budgets (:meth:`Budget.share`, :meth:`Budget.side_lane`); the
+Ipopt polish is given the time the search leaves it (:meth:`Budget.reserve`).
+"""
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from .options import Deadline, Stopped
+from .tuning import FIRST_WORK, POLISH_SHARE, TOTAL_WORK
 
 
 @dataclass(frozen=True)
@@ -19,21 +31,116 @@ class WorkRule:
     total: float
 
 
-class Budget:
-    """The work bounds of one search on a formulation ``problem`` (``rule``: a
-    :class:`WorkRule`, None: no bound). Lanes run elsewhere get a share of what is left
-    (:meth:`shares`, :meth:`side_lane`) and bound their own engine's budget with it
-    (:meth:`bound`)."""
+class Charged(Deadline):
+    """What every solve of an engine is given: its budget's time cap, a stop, and the work
+    bounds that apply now (:meth:`Budget.stopping`), read at the call."""
 
-    def __init__(self, problem, rule: WorkRule | None = None):
-        self.problem, self.rule = problem, rule
-        #: LP solves, and LP work (:meth:`work`), at which what follows the first
-        #: certificate stops (None: no bound)
+    def __init__(self, budget):
+        self.budget, self.stop, self.flag = budget, budget.stopping, False
+
+    @property
+    def at(self):
+        return self.budget.cap.at
+
+    def __getstate__(self):
+        """It travels as the plain deadline it is now (seconds left)."""
+        return Deadline(self.at, self.stop).__getstate__()
+
+    def __reduce__(self):
+        return Deadline, (), self.__getstate__()
+
+
+class Budget:
+    """The budget of one search (see the module doc). ``cap``: the time cap (a
+    :class:`~.options.Deadline`; None: none); ``rule``: a :class:`WorkRule` (None: no work
+    bound); ``seconds``: the time limit the cap was made from (None: none); ``allowance``:
+    (LP solves, LP work) a child budget may spend (None: no bound). An engine counts its
+    work into its budget (:meth:`count`)."""
+
+    def __init__(self, cap: Deadline | None = None, rule: WorkRule | None = None, seconds=None, allowance=(None, None)):
+        self.cap, self.rule, self.seconds, self.allowance = cap or Deadline(), rule, seconds, allowance
+        self.problem = None
+        self.parent = None  # the budget a reserve was taken from (its cap is the polish's)
+        #: LP solves, and LP work (:meth:`work`), at which the search stops (None: no bound)
         self.work_limit = self.work_bound = None
         #: LP work at which the first certificate ends (None: no bound), and whether it did
-        self.first_bound = None if rule is None else rule.first * problem.work_bound()
-        self.first_spent = False
-        self._lane_from = 0.0  # the search's work when the first certificate's side lanes began
+        self.first_bound, self.first_spent = None, False
+        self._first = False       # the first certificate runs: its bound applies
+        self._charged = True      # the work bounds stop solves (not after the search)
+        self._lane_from = 0.0     # the search's work when the first certificate's side lanes began
+        self.deadline = Charged(self)
+
+    @classmethod
+    def for_solve(cls, time_limit=None, stop=None) -> "Budget":
+        """The budget of a solve: the time cap from ``time_limit`` seconds (None: none) and
+        ``stop``; without a time limit, the default rule's work bounds."""
+        rule = WorkRule(FIRST_WORK, TOTAL_WORK) if time_limit is None else None
+        return cls(Deadline.after(time_limit, stop), rule, time_limit)
+
+    def count(self, problem) -> "Budget":
+        """The engine's formulation ``problem`` counts its work here."""
+        self.problem = problem
+        self.first_bound = None if self.rule is None else self.rule.first * problem.work_bound()
+        return self
+
+    # ------------------------------------------------------------------ the time cap
+    def left(self) -> float:
+        """Seconds left of the time cap (inf without a limit, 0 once stopped)."""
+        return self.cap.left()
+
+    def expired(self) -> bool:
+        """The time cap passed, or a stop was asked for."""
+        return self.cap.expired()
+
+    def asked(self) -> bool:
+        """A stop was asked for (Ctrl-C, the caller's predicate), not the time cap."""
+        return self.cap.flag or (self.cap.stop is not None and bool(self.cap.stop()))
+
+    def polish_seconds(self) -> float | None:
+        """The most an Ipopt start may take: POLISH_SHARE of the time limit (None: none)."""
+        return None if self.seconds is None else POLISH_SHARE * self.seconds
+
+    def reserve(self, seconds: float) -> "Budget":
+        """The search's budget, its time cap ``seconds`` earlier (at most POLISH_SHARE of the
+        limit; none without one), the rest kept for the polish (:meth:`release`)."""
+        keep = 0.0 if self.seconds is None else min(seconds, self.polish_seconds())
+        child = Budget(self.cap.extended(-keep) if keep else self.cap, self.rule, self.seconds)
+        child.parent = self
+        return child
+
+    def release(self):
+        """The search ended: the time it left the polish is its (the Ipopt points are
+        certified within the whole limit), the work bounds stop no solve."""
+        self.end()
+        if self.parent is not None:
+            self.cap = self.parent.cap
+
+    def end(self):
+        """The search ended: its work bounds stop no later solve (a verdict's, a polish's)."""
+        self._charged = False
+
+    # ------------------------------------------------------------------ the work
+    def stopping(self) -> bool:
+        """What stops a solve now: the time cap, a stop, the first certificate's bound
+        while it runs, or the work bounds (between two solves: the work grows only when
+        a solve ends, so no LP is cut inside HiGHS)."""
+        return self.over() or (self._charged and self.spent())
+
+    def over(self) -> bool:
+        """The time cap passed, a stop was asked for, or the first certificate's bound is
+        reached while it runs: what a lane does not catch (:meth:`lane`)."""
+        return self.cap.expired() or (self._first and self.first_done())
+
+    @contextmanager
+    def lane(self):
+        """A lane's run (or a GA evaluation's): it ends quietly, between two solves, once
+        the work bounds are spent; the time cap, a stop and the first certificate's bound
+        go up as :class:`~.options.Stopped`."""
+        try:
+            yield
+        except Stopped:
+            if self.over():
+                raise
 
     def after_first(self, lps_first):
         """The first certificate took ``lps_first`` LP solves: the rule's bounds of the rest
@@ -60,13 +167,15 @@ class Budget:
         search has a certified state). The time limit and a stop are the caller's."""
         if self.first_bound is None:
             return run()
+        self._first = True
         try:
-            with self.problem.until(self.bounded(self.first_done)):
-                run()
+            run()
         except Stopped:
-            if self.problem.deadline.expired():
+            if self.cap.expired():
                 raise
             self.first_spent = True
+        finally:
+            self._first = False
         if not certified() and self.first_done():
             self.first_spent = True  # the side lanes spent it
 
@@ -74,29 +183,29 @@ class Budget:
         """The first certificate's work bound is reached (False: none)."""
         return self.first_bound is not None and self.work() >= self.first_bound
 
-    def bounded(self, spent=None) -> Deadline:
-        """The search's deadline, which also expires once the work bounds are spent
-        (``spent()``: other bounds; default :meth:`spent`). The work grows only when a
-        solve ends, so it expires between two solves: no LP is cut inside HiGHS (the LPs
-        stay usable), the next one raises Stopped before it starts."""
-        real = self.problem.deadline
-        spent = spent or self.spent
-        return Deadline(real.at, lambda: real.expired() or spent())
-
-    def shares(self, k) -> tuple:
-        """Each of ``k`` lanes' equal share of the bounds left: (LP solves, LP work), None
-        where no bound is set."""
+    # ------------------------------------------------------------------ child budgets
+    def share(self, k) -> list:
+        """``k`` child budgets, each an equal share of the work bounds left (LP solves, LP
+        work; None where no bound is set), under the same time cap."""
         lps = None if self.work_limit is None else max(0, self.work_limit - self.problem.n_lps()) // k
         work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
-        return lps, work
+        return [Budget(self.cap, allowance=(lps, work)) for _ in range(k)]
 
-    def side_lane(self):
-        """A lane beside the first certificate's begins: the whole first-certificate work
-        left is its (None: no bound)."""
+    def side_lane(self) -> "Budget":
+        """The budget of a lane beside the first certificate: the whole first-certificate
+        work left (no bound without one), under the time cap alone."""
         self._lane_from = self.work()
-        return None if self.first_bound is None else max(0.0, self.first_bound - self._lane_from)
+        left = None if self.first_bound is None else max(0.0, self.first_bound - self._lane_from)
+        return Budget(self.cap, allowance=(None, left))
 
-    def share(self, running) -> float | None:
+    def run_under(self, child: "Budget"):
+        """This engine's next run is under ``child``: its time cap, and its allowance
+        counted from this engine's work now."""
+        lps, work = child.allowance
+        self.cap, self._charged = child.cap, True
+        self.bound(None if lps is None else self.problem.n_lps() + lps, None if work is None else self.work() + work)
+
+    def progress(self, running) -> float | None:
         """The share of the work bounds spent so far (a progress display's; ``running``:
         ``{id: (engine, work when it began)}`` of the lanes under way, counted): of the
         one closest to ending the search (LP solves or LP work), during the first

@@ -11,10 +11,11 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    [single block, rescue, chain from zero cohesion, fixed-point fallback] beside [dilatancy
    continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`: no
    improvement for a while, counted in evaluations and LP solves against those of the
-   first certificate, at most ``generations`` generations, or the time limit). Without a
-   time limit the search is bounded by counted work, not time (:mod:`.budget`): the first
-   certificate at FIRST_WORK times the formulation's work bound, the whole search at
-   TOTAL_WORK times the first certificate's LP solves and WORK_PER_BLOCK LP work a block.
+   first certificate, at most ``generations`` generations, or the time limit). The search
+   runs under one budget (:mod:`.budget`), made once here: the time limit as a hard cap
+   and, without one, counted work, not time: the first certificate at FIRST_WORK times the
+   formulation's work bound, the whole search at TOTAL_WORK times the first certificate's
+   LP solves and WORK_PER_BLOCK LP work a block.
 3. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
@@ -45,15 +46,16 @@ from ..signals import catch_sigint, restore_sigint
 from ..structure import Structure
 from ..structure3d import Structure3D
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
-from .budget import WorkRule
+from .budget import Budget
 from .ipopt import start_pool
-from .options import Deadline, SolveOptions, Stopped
-from .plan import cores, phase, run as run_plan
+from .options import SolveOptions, Stopped
+from .plan import phase, run as run_plan
 from .progress import Progress
 from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, BLAS_THREADS, DEFAULT_STARTS, EPSILON_LADDER, FIRST_WORK, IPOPT_GROWTH,
-                     IPOPT_ITERATIONS, IPOPT_SECONDS_1020, POLISH_SECONDS, POLISH_SHARE, STALL_WORK, TOTAL_WORK)
+                     IPOPT_ITERATIONS, IPOPT_SECONDS_1020, POLISH_SECONDS, STALL_WORK)
+from .workers import count as count_workers
 
 log = logging.getLogger(__name__)
 
@@ -112,13 +114,12 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     _check_solver(opt)
     sigint = threading.Event()  # Ctrl-C
     asked = sigint.is_set if stop is None else (lambda: sigint.is_set() or bool(stop()))
-    deadline = Deadline.after(opt.time_limit, asked)
-    plan = _polish_plan(structure, opt)
+    budget = Budget.for_solve(opt.time_limit, asked)
+    workers = count_workers(opt.workers)
+    plan = _polish_plan(structure, opt, budget, workers)
     # the search leaves the polish its share of a time limit
-    search_deadline = deadline
-    if plan["run"] and opt.time_limit is not None:
-        search_deadline = deadline.extended(-min(plan["reserve"], POLISH_SHARE * opt.time_limit))
-    progress = Progress(opt.progress, opt.time_limit)
+    search_budget = budget.reserve(plan["reserve"] if plan["run"] else 0.0)
+    progress = Progress(opt.progress, budget.seconds)
     archive = {}  # every certified state (scaled units), the least alpha per flow pattern
 
     def on_state(state):
@@ -137,37 +138,37 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     try:
         # Ipopt works on the scaled structure too; its workers fork now, before HiGHS starts
         # threads here, and build their models while the LPs run.
-        pool = start_pool(_scaled(structure), opt, plan["n"]) if plan["run"] else None
+        pool = start_pool(_scaled(structure), opt, workers, plan["n"]) if plan["run"] else None
         # BLAS_THREADS while the search runs (the Ipopt workers keep the setting they forked with)
         blas = threadpool_limits(BLAS_THREADS, user_api="blas")
-        engine = GapSearch(structure, search_deadline, on_certified=on_certified, on_state=on_state,
-                           work=WorkRule(FIRST_WORK, TOTAL_WORK) if opt.time_limit is None else None)
+        engine = GapSearch(structure, search_budget, on_certified=on_certified, on_state=on_state)
         progress.follow(engine.share)
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
         what, alpha_assoc, lps_first = run_plan(engine, opt, progress, getattr(pool, "client", None), on_associative,
-                                                stall_work=STALL_WORK)
+                                                stall_work=STALL_WORK, workers=workers)
+        search_budget.end()
         status, message = _verdict(engine, what, alpha_assoc)
-        runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, deadline, asked),
+        runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, budget),
                         engine.record.best.alpha if engine.record.best is not None else np.nan, engine.n_lps(),
                         time.perf_counter() - t_search, path_of(engine.record.best)))
         if status == CERTIFIED or (status == NOT_CERTIFIED and engine.record.best is not None):
-            _polish(engine, pool, plan, archive, runs, opt, deadline, progress)
+            _polish(engine, pool, plan, archive, runs, opt, budget, progress)
     finally:
         if blas is not None:
             blas.restore_original_limits()
         progress.close()
         restore_sigint(old_handler)
         if pool is not None:
-            _shutdown(pool, kill=asked() or deadline.expired())
+            _shutdown(pool, kill=budget.expired())
     record = engine.record if engine is not None else None
     if record is not None and record.best_user is not None and status in (NOT_CERTIFIED, CERTIFIED):
         status = CERTIFIED
-    if asked():
+    if budget.asked():
         status, message = INTERRUPTED, "interrupted: the best certified state so far is reported"
     elif status == CERTIFIED:
         message = "certified collapse state"
-    if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and deadline.expired() and not asked():
+    if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and budget.expired() and not budget.asked():
         message += " (the time limit stopped the search)"
     runs.sort(key=lambda r: r.start)
     best = record.best_user if record is not None and status in (CERTIFIED, INTERRUPTED) else None
@@ -248,11 +249,11 @@ def _unstable_message(engine):
     return message + crushing() if crushing is not None else message
 
 
-def _run_status(engine, status, deadline, asked):
+def _run_status(engine, status, budget):
     text = CERTIFIED if engine.record.best is not None else status.replace("_", " ")
-    if asked():
+    if budget.asked():
         text += ", interrupted"
-    elif deadline.expired():
+    elif budget.expired():
         text += ", time limit"
     return text
 
@@ -263,26 +264,27 @@ def _scaled(structure):
     return scaled(structure, *scales(structure))
 
 
-def _polish_plan(structure, opt) -> dict:
+def _polish_plan(structure, opt, budget, workers) -> dict:
     """How many Ipopt starts, and may they run: ``--starts K`` asks for K whatever they
-    cost (within a time limit); without it, up to DEFAULT_STARTS when one is estimated
-    at most POLISH_SECONDS (or half the time limit). None where the formulation has no
-    Ipopt polish (in space)."""
+    cost (within a time limit: the budget's polish share); without it, up to
+    DEFAULT_STARTS when one is estimated at most POLISH_SECONDS (or half the time limit).
+    None where the formulation has no Ipopt polish (in space). ``workers``: the Ipopt
+    processes at most."""
     from .gap import formulation_of
     explicit = opt.starts is not None
     n = opt.starts if explicit else DEFAULT_STARTS
     if not formulation_of(structure).polish:
         n = 0
     est = ipopt_seconds(structure.n_blocks)
-    workers = max(1, min(opt.workers or cores(), n or 1))
+    workers = max(1, min(workers, n or 1))
     plan = dict(n=n, estimate=est, explicit=explicit, reserve=est * math.ceil(n / workers), why="")
-    budget = None if opt.time_limit is None else POLISH_SHARE * opt.time_limit
+    most = budget.polish_seconds()
     if n == 0:
         plan["run"] = False
-    elif budget is not None and est > budget:
+    elif most is not None and est > most:
         plan["run"], plan["why"] = False, (f"skipped: Ipopt on {structure.n_blocks} blocks takes about {est:.3g} s "
                                            f"a start (estimated), over half the time limit")
-    elif not explicit and budget is None and est > POLISH_SECONDS:
+    elif not explicit and most is None and est > POLISH_SECONDS:
         plan["run"], plan["why"] = False, (f"skipped: Ipopt on {structure.n_blocks} blocks takes about {est:.3g} s "
                                            f"a start (estimated); ask for it with --starts")
     else:
@@ -290,9 +292,10 @@ def _polish_plan(structure, opt) -> dict:
     return plan
 
 
-def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
+def _polish(engine, pool, plan, archive, runs, opt, budget, progress):
     """Step 3: Ipopt from the best distinct certified states; each point certified in the
-    engine (its rows held, min alpha, descended), so a better one becomes the best."""
+    engine (its rows held, min alpha, descended), so a better one becomes the best. Under
+    the solve's ``budget``: the whole time limit (the search had less)."""
     n = plan["n"]
     if n == 0:
         return
@@ -306,31 +309,30 @@ def _polish(engine, pool, plan, archive, runs, opt, deadline, progress):
         rows[i] = Run(i, "ipopt", status=f"skipped: only {len(starts)} distinct certified state"
                                          f"{'s' if len(starts) != 1 else ''} to start from")
     phase(progress, "Ipopt on eq. 5")
+    engine.budget.release()  # Ipopt's points certified within the whole limit (the search had less)
     futures = {}
     for i, st in enumerate(starts, start=1):
-        if deadline.left() < plan["estimate"] and deadline.at is not None:
+        if budget.left() < plan["estimate"]:
             rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
-                          status=f"skipped: time limit ({deadline.left():.3g} s left, about "
+                          status=f"skipped: time limit ({budget.left():.3g} s left, about "
                                  f"{plan['estimate']:.3g} s needed)")
             continue
-        futures[pool.submit(_ipopt._ipopt_task, i, st, EPSILON_LADDER, opt.ipopt_options, deadline)] = (i, st)
+        futures[pool.submit(_ipopt._ipopt_task, i, st, EPSILON_LADDER, opt.ipopt_options, budget.cap)] = (i, st)
     pending = set(futures)
     try:
         while pending:
-            if deadline.expired():
+            if budget.expired():
                 break
             done, pending = wait(pending, timeout=0.1, return_when=FIRST_COMPLETED)
             for fut in done:
                 i, st = futures[fut]
-                # Ipopt's points certified within the whole limit (the search had less)
-                with engine.problem.until(deadline):
-                    rows[i] = _certify_ipopt(engine, fut, i, st)
+                rows[i] = _certify_ipopt(engine, fut, i, st)
     except Stopped:
         pass
     for fut in pending:  # left to _shutdown (cancelled, or their workers killed)
         i, st = futures[fut]
         rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
-                      status="interrupted" if deadline.flag or (deadline.stop and deadline.stop()) else "time limit")
+                      status="interrupted" if budget.asked() else "time limit")
     runs.extend(rows[i] for i in sorted(rows))
     for i in sorted(rows):
         log.info("Ipopt start %d (%s): %s, certified alpha %.6f", i, rows[i].source, rows[i].status,

@@ -43,6 +43,7 @@ import numpy as np
 
 from ..errors import InputError
 from .tuning import CONTEXTS_KEPT, SCHEDULER_TIMEOUT
+from .workers import count, processes
 
 #: topic of the events tasks log on Dask workers when they start (attempts, worker)
 EVENT_TOPIC = "lamodel-task-start"
@@ -164,7 +165,7 @@ class Executor:
         self.retries = retries
         self.preload = tuple(preload)  # modules local workers import before their first task
         self.client, self._own_client = client, False
-        self.workers = workers or os.cpu_count() or 1
+        self.workers = count(workers)
         if client is None and scheduler is not None:
             address = check_scheduler(scheduler)
             from distributed import Client
@@ -225,17 +226,10 @@ class Executor:
         return results
 
     def _pool(self, fn, key, shared, prepare):
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-        # forkserver: workers forked from a clean server process, never from one that
-        # already runs HiGHS or Dask threads (fork would copy their locks mid-use); the
-        # server imports the task's module once, so workers start without importing it
-        methods = multiprocessing.get_all_start_methods()
-        ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
-        if ctx.get_start_method() == "forkserver":
-            ctx.set_forkserver_preload([fn.__module__, *self.preload])
-        return ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx, initializer=_install,
-                                   initargs=(key, shared, prepare))
+        # forkserver (:func:`.workers.processes`); the server imports the task's module
+        # once, so workers start without importing it
+        return processes(self.workers, _install, (key, shared, prepare), start="forkserver",
+                         preload=(fn.__module__, *self.preload))
 
     def _map_local(self, fn, items, shared, prepare, seeds, key, progress):
         from concurrent.futures.process import BrokenProcessPool

@@ -26,6 +26,7 @@ import numpy as np
 
 from .options import Deadline, Stopped
 from .tuning import EVALUATION_SLICE
+from .workers import threads
 
 
 def parallel(opt) -> bool:
@@ -76,9 +77,8 @@ class _Now:
 
 class _Threads:
     def __init__(self, structure, workers: int, deadline: Deadline, chain: int):
-        from concurrent.futures import ThreadPoolExecutor
         self.evaluators, self.deadline, self.chain = Evaluators(structure), deadline, chain
-        self.pool = ThreadPoolExecutor(workers, thread_name_prefix="lamodel-ga") if workers > 1 else None
+        self.pool = threads(workers, "ga") if workers > 1 else None
 
     def submit(self, snap, X):
         if self.pool is None:

@@ -11,7 +11,6 @@ import numpy as np
 
 from . import ga  # pymoo's GA, looked up at the call (tests count its evaluations)
 from .generations import Generations
-from .options import Stopped
 from .tuning import DESCENT_STEP, NO_CERTIFICATE, STALL_WORK, Z_INIT, Z_MAX
 
 
@@ -49,16 +48,12 @@ def genetic_search(engine, opt, client=None, lps_first=None, stall_work=STALL_WO
     def fitness(z):
         if stalled():  # the rest of this generation is skipped, then the GA stops
             return math.inf
-        try:
-            # one evaluation (a chain of certified, descended steps) can cost a tenth of the
-            # work bound at 510 blocks: it ends between two LP solves once the bound is
-            # spent (what it certified is in the record already)
-            with engine.problem.until(engine.budget.bounded()):
-                alpha = fitness_of.evaluate(z, opt.chain, reference_N=fitness_of.reference_N())
-        except Stopped:
-            if engine.problem.deadline.expired():
-                raise
-            alpha = math.inf
+        # one evaluation (a chain of certified, descended steps) can cost a tenth of the
+        # work bound at 510 blocks: it ends between two LP solves once the bound is
+        # spent (what it certified is in the record already)
+        alpha = math.inf
+        with engine.budget.lane():
+            alpha = fitness_of.evaluate(z, opt.chain, reference_N=fitness_of.reference_N())
         return counted(alpha)
 
     def take(outcome, left):

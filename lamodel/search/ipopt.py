@@ -10,13 +10,13 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import Future, ProcessPoolExecutor
-
+from concurrent.futures import Future
 
 from ..structure import Structure
 from .options import Deadline
 from .state import CollapseState
 from .tuning import EPSILON_LADDER, IPOPT_OPTIONS, IPOPT_WARM_OPTIONS
+from .workers import processes
 
 
 
@@ -47,21 +47,19 @@ def _warm(_):
     return os.getpid()
 
 
-def start_pool(structure, opt, n_starts=None):
-    """Where the Ipopt starts run: a pool of local processes (default), a Dask cluster
-    (``opt.scheduler``), or this process when it is itself a worker (a study's variant,
-    a Dask task: the work is already spread, and daemonic workers cannot fork a pool)."""
+def start_pool(structure, opt, workers, n_starts=None):
+    """Where the Ipopt starts run: a pool of up to ``workers`` local processes (default),
+    a Dask cluster (``opt.scheduler``), or this process when it is itself a worker (a
+    study's variant, a Dask task: the work is already spread, and daemonic workers cannot
+    fork a pool)."""
     if opt.scheduler is not None:
         return _DaskPool(structure, opt)
     if multiprocessing.parent_process() is not None:
         return _InlinePool(structure, opt)
-    workers = opt.workers or os.cpu_count() or 1
     workers = max(1, min(workers, n_starts or opt.starts or 1))
-    # fork before any HiGHS thread exists in this process; workers build their models
+    # forked before any HiGHS thread exists in this process; workers build their models
     # while the GA runs here.
-    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                               initargs=(structure, opt.xi_factor, opt.solver))
+    pool = processes(workers, _init_worker, (structure, opt.xi_factor, opt.solver), start="fork")
     for _ in range(workers):
         pool.submit(_warm, None)
     return pool

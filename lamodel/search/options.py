@@ -70,8 +70,9 @@ class Deadline:
 
     ``Deadline.after(None)`` never expires by itself. ``stop`` is any callable returning
     True to stop (``threading.Event().is_set`` works); ``flag`` is set by a signal handler
-    (Ctrl-C). Every part of a solve — the LPs (inside HiGHS, through its interrupt
-    callback), the GA, the Ipopt workers — asks the same object.
+    (Ctrl-C). A solve makes one, the time cap of its budget (:mod:`.budget`), which every
+    part of it asks: the LPs (inside HiGHS, through its interrupt callback), the cone
+    programs, the GA, the Ipopt workers.
     """
 
     def __init__(self, at: float | None = None, stop=None):

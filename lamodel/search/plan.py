@@ -18,7 +18,6 @@ order written: the same answer with any number of workers (:mod:`.gap.lanes`).
 from __future__ import annotations
 
 import logging
-import os
 
 import numpy as np
 
@@ -53,12 +52,12 @@ def continuations(engine, x_assoc, workers=1):
     return phases.continuations(engine, x_assoc, CONTINUATIONS, workers)
 
 
-def run(engine, opt, progress, client=None, on_associative=None, stall_work=None):
-    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`, with its work bounds:
-    :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`). Returns (what, alpha_assoc,
-    LP solves of the first certificate): what is 'searched', 'stopped' (a stop or the time
-    limit), 'unstable', or the associative LP's failure word."""
-    workers = opt.workers or cores()
+def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1):
+    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
+    :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the
+    lanes' threads (:mod:`.workers`). Returns (what, alpha_assoc, LP solves of the first
+    certificate): what is 'searched', 'stopped' (a stop or the time limit), 'unstable', or
+    the associative LP's failure word."""
     alpha_assoc, lps_first = np.nan, 0
     try:
         kind, alpha_assoc, x0 = associative(engine)
@@ -94,8 +93,3 @@ def phase(progress, name):
     """A phase begins: on the progress line and in the log."""
     log.info("phase: %s", name)
     progress.phase(name)
-
-
-def cores():
-    """The worker threads of the lanes by default: all cores."""
-    return os.cpu_count() or 1

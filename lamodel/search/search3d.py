@@ -102,12 +102,13 @@ def _searched(structure, opt, stop, on_associative=None) -> Result3D:
 
 def _method(structure, method, deadline) -> Result3D:
     """One method on the search's pieces (:class:`lamodel.search.gap.GapSearch`)."""
+    from .budget import Budget
     from .gap import GapSearch
     from .gap.phases import associative, stable
     from .methods import successive_cone
     from .state import CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, unstable_message
     t0 = time.perf_counter()
-    eng = GapSearch(structure, deadline)
+    eng = GapSearch(structure, Budget(deadline))
     p, out, raw = eng.problem, Result3D(NOT_CERTIFIED, None, np.nan), np.nan
     try:
         kind, out.associative, x0 = associative(eng)

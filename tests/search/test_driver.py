@@ -226,11 +226,11 @@ def test_without_a_time_limit_the_work_is_bounded_by_the_first_certificate(monke
     """Without a time limit the search stops once it has solved TOTAL_WORK times the LPs
     of its first certificate (an evaluation of the GA may end past it); a time limit
     replaces that bound (the search then runs to its own stopping rule)."""
-    from lamodel.search import driver
+    from lamodel.search import budget
     s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
     free = solve(s, SolveOptions(starts=0))
     first = free.history[0][3]
-    monkeypatch.setattr(driver, "TOTAL_WORK", 1.0)
+    monkeypatch.setattr(budget, "TOTAL_WORK", 1.0)
     bounded = solve(s, SolveOptions(starts=0))
     timed = solve(s, SolveOptions(starts=0, time_limit=600))
     assert bounded.certified and bounded.best.alpha <= bounded.alpha_associative
@@ -243,11 +243,11 @@ def test_without_a_time_limit_the_lp_work_is_bounded_by_the_size(monkeypatch):
     """Without a time limit the search also stops at WORK_PER_BLOCK LP work a block,
     continuations included, and its first certificate only at FIRST_WORK times that: with
     no work left after it, the search solves no LP past its first phase."""
-    from lamodel.search import driver
+    from lamodel.search import budget
     from lamodel.search.gap import problem
     s = structure_from_json(running_bond_wall([[0.5, 1, 1, 1, 1, 0.5], [1] * 5] * 3, mu=0.9, name="wall33"))
     monkeypatch.setattr(problem, "WORK_PER_BLOCK", 1e-9)
-    monkeypatch.setattr(driver, "FIRST_WORK", 1e18)  # the first certificate's bound out of the way
+    monkeypatch.setattr(budget, "FIRST_WORK", 1e18)  # the first certificate's bound out of the way
     o = solve(s, SolveOptions(starts=0))
     assert o.certified and o.best.alpha <= o.alpha_associative
     assert o.runs[0].iterations == o.lps_first

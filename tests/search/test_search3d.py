@@ -31,13 +31,13 @@ def test_without_a_time_limit_the_cone_work_is_bounded(monkeypatch):
     first certificate at FIRST_WORK times it): with no work allowed past the first
     certificate, nothing runs past the first phase; the bound grows with the blocks and
     has a floor."""
-    from lamodel.search import driver
+    from lamodel.search import budget
     from lamodel.search.gap import problem3d
     s = _tall_block()
     full = solve(s, SolveOptions(seed=0))
     monkeypatch.setattr(problem3d, "WORK_FLOOR_CONE", 1e-9)
     monkeypatch.setattr(problem3d, "WORK_PER_BLOCK_CONE", 0.0)
-    monkeypatch.setattr(driver, "FIRST_WORK", 1e30)  # the first certificate's bound out of the way
+    monkeypatch.setattr(budget, "FIRST_WORK", 1e30)  # the first certificate's bound out of the way
     o = solve(s, SolveOptions(seed=0))
     assert o.certified and o.runs[0].iterations == o.lps_first < full.runs[0].iterations
     monkeypatch.setattr(problem3d, "WORK_FLOOR_CONE", 0.0)

@@ -1,5 +1,6 @@
-"""--time-limit reaches every part of a solve: the cone programs in space, the GA's
-evaluations in worker threads, and the Ipopt starts (their limit in wall time). Each run
+"""--time-limit reaches every part of a solve through its one budget: the LPs of a planar
+search (its lanes in threads too), the cone programs in space, the GA's evaluations in
+worker threads, and the Ipopt starts (their limit in wall time). Each run
 is stopped within 2 s of the limit (1 s more of slack for a loaded test machine), with a
 certified state or an honest status."""
 import sys
@@ -35,6 +36,16 @@ def test_a_solve_in_space_stops_at_its_limit():
     o, took = timed(s, time_limit=2.0)
     assert took < 2.0 + SLACK, took
     assert o.status in ("certified", "not_certified") and "time limit" in o.message, o.message
+
+
+def test_a_planar_solve_stops_at_its_limit():
+    """A 488-block running-bond wall, whose search runs for longer than 2 s (its
+    continuation lanes in worker threads at 2 s, idle or loaded), stopped at the limit by
+    the LPs' interrupt callback."""
+    o, took = timed(bond(16, 30), time_limit=2.0, starts=0, generations=10_000)
+    assert took < 2.0 + SLACK, took
+    assert o.status in ("certified", "not_certified") and "time limit" in o.message, o.message
+    assert o.runs[0].status.endswith("time limit"), o.runs[0].status
 
 
 def test_the_ga_in_worker_threads_stops_at_the_limit():

@@ -28,8 +28,8 @@ from __future__ import annotations
 
 from ...structure import Structure
 from ...structure3d import Structure3D
+from ..budget import Budget
 from ..options import Deadline
-from ..budget import Budget, WorkRule
 from .alternation import Alternation
 from .certify import Certifier
 from .chains import Chains
@@ -63,34 +63,36 @@ def formulation_of(structure):
 class GapSearch:
     """The pieces of the search on one structure, built in the order the algorithm runs them.
 
-    ``deadline``: a :class:`Deadline` (time limit, stop); ``on_certified(state)`` is called
-    with every new best certified state (user units), ``on_state(state)`` with every
-    certified state (scaled units). ``work``: the default run's stopping rule
-    (:class:`~lamodel.search.budget.WorkRule`; None: no work bound, as under a time limit).
-    Every method raises :class:`~lamodel.search.options.Stopped` when the deadline fires;
-    after that the search is unusable (its LPs are abandoned).
+    ``budget``: the :class:`~lamodel.search.budget.Budget` it runs under (time cap, stop,
+    work bounds; None: none); every solve reads its deadline at the call.
+    ``on_certified(state)`` is called with every new best certified state (user units),
+    ``on_state(state)`` with every certified state (scaled units). Every method raises
+    :class:`~lamodel.search.options.Stopped` when the budget's deadline fires; after a stop
+    by the time cap the search is unusable (its LPs are abandoned).
     """
 
-    def __init__(self, structure: Structure | Structure3D, deadline: Deadline | None = None, on_certified=None,
-                 on_state=None, work: WorkRule | None = None):
-        self.problem = formulation_of(structure)(structure, deadline)
+    def __init__(self, structure: Structure | Structure3D, budget: Budget | None = None, on_certified=None,
+                 on_state=None):
+        self.budget = budget or Budget()
+        self.problem = formulation_of(structure)(structure, self.budget.deadline)
+        self.budget.count(self.problem)
         self.record = Record(self.problem, on_certified, on_state)
         self.certifier = Certifier(self.problem, self.record)
         self.descent = Descent(self.problem, self.certifier, self.record)
         self.alternation = Alternation(self.problem, self.certifier, self.descent, self.record)
         self.near = Near(self.problem, self.certifier, self.descent)
         self.chains = Chains(self.problem, self.certifier, self.descent, self.alternation, self.near)
-        self.budget = Budget(self.problem, work)
         self.lanes = Lanes(self, new_engine=lambda: GapSearch(structure))
         self.fitness = Fitness(self.problem, self.chains, self.record, self.lanes)
 
     @property
     def deadline(self) -> Deadline:
-        return self.problem.deadline
+        """The time cap and stop of its budget (what a pure evaluation elsewhere is given)."""
+        return self.budget.cap
 
     def share(self):
-        """The share of the work bounds spent so far (:meth:`~lamodel.search.budget.Budget.share`)."""
-        return self.budget.share(self.lanes.running)
+        """The share of the work bounds spent so far (:meth:`~lamodel.search.budget.Budget.progress`)."""
+        return self.budget.progress(self.lanes.running)
 
     def n_lps(self) -> int:
         return self.problem.n_lps()

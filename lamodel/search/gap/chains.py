@@ -15,7 +15,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..options import Stopped
 from ..tuning import (CHAIN_ATOL, CHAIN_RELAXATION, CHAIN_RTOL, DESCENT_STEP, FALLBACK_PATIENCE, FALLBACK_STEPS,
                       RHO_MAIN)
 from .alternation import Alternation
@@ -144,14 +143,11 @@ class FromZero:
         if self.once not in ran:
             t = time.perf_counter()
             budget = engine.budget
+            found = None  # where the work bounds end it: its states so far are in the record
             try:
-                with p.until(budget.bounded()):
-                    ran[self.once] = (engine.chains.fixed_point((), from_zero=True, source="zero-cohesion",
-                                                                until=budget.spent),)
-            except Stopped:
-                if p.deadline.expired():
-                    raise
-                ran[self.once] = (None,)  # its states so far are in the record
+                with budget.lane():
+                    found = engine.chains.fixed_point((), from_zero=True, source="zero-cohesion", until=budget.spent)
+                ran[self.once] = (found,)
             finally:
                 engine.record.phase("zero cohesion", t)
         return ran[self.once][0]

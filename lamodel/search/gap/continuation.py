@@ -5,7 +5,6 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from ..options import Stopped
 from ..tuning import RHO_CONTS, RHO_HIGH
 from .record import least
 
@@ -25,19 +24,16 @@ class Continuation:
 
     def run(self, engine, start):
         t = time.perf_counter()
-        p, near, alternate, record = engine.problem, engine.near, engine.alternation.alternate, engine.record
+        near, alternate, record = engine.near, engine.alternation.alternate, engine.record
         try:
-            with p.until(engine.budget.bounded()):
+            with engine.budget.lane():  # the time limit or a stop: the search's to handle
                 best, x = alternate(start.x_assoc, rhos=self.rhos, source="continuation")
                 if near.stalled_below(x, record.best):
                     st, x = alternate(x, rhos=RHO_HIGH, source="continuation")
                     best = least(best, st)
                     if near.stalled_below(x, record.best):
                         best = least(best, near.certify(x, "continuation-near"))
-            return best
-        except Stopped:
-            if p.deadline.expired():  # the time limit or a stop: the search's to handle
-                raise
+                return best
             return None
         finally:
             record.phase("continuation", t)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from ..options import Stopped
 from ..tuning import DILATANCY_STEPS, DILATANCY_TRACK, RHO_HIGH
 from .record import least
 
@@ -29,11 +28,11 @@ class Dilatancy:
         if self.once in ran:
             return ran[self.once][0]
         t = time.perf_counter()
-        p, near, record, budget = engine.problem, engine.near, engine.record, engine.budget
+        near, record, budget = engine.near, engine.record, engine.budget
         alternate = engine.alternation.alternate
         best = None
         try:
-            with p.until(budget.bounded()):
+            with budget.lane():
                 x = start.x_assoc
                 for dil in DILATANCY_STEPS:
                     _, x = alternate(x, source="dilatancy", dilatancy=dil, max_steps=DILATANCY_TRACK)
@@ -45,9 +44,6 @@ class Dilatancy:
                         best = least(best, near.certify(x, "dilatancy-near"))
                 if near.stalled_below(x, record.best):
                     best = least(best, engine.chains.fixed_point((x,), source="dilatancy-fixed", until=budget.spent))
-        except Stopped:
-            if p.deadline.expired():
-                raise
         finally:
             ran[self.once] = (best,)
             record.phase("dilatancy", t)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..budget import Budget
 from ..highs import INF
 from .chains import Chains
 from .lanes import Lanes, PureRun
@@ -93,6 +94,6 @@ def evaluate_pure(engine, snap: dict, genome, chain_steps, deadline):
     is counted in iterations); its LPs stop at ``deadline``. Returns (alpha, certified
     states in the order found (scaled units), LP solves, what it learned: its additions to
     the caches and the bases it ended with)."""
-    with PureRun(engine, snap, deadline) as run:
+    with PureRun(engine, snap, Budget(deadline)) as run:
         alpha = engine.fitness.evaluate(genome, chain_steps, reference_N=snap["reference_N"])
     return (alpha,) + run.outcome()

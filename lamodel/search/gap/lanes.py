@@ -5,7 +5,7 @@ A lane (:class:`Lane`) is a tuple of strategies, each an object with one method
 :mod:`.continuation`, :mod:`.dilatancy`); ``start`` (:class:`Start`) holds the statics it
 starts from. Lanes side by side run as **pure evaluations** on engines of their own
 (:func:`run_pure`): a function of a snapshot of the search (:meth:`Lanes.snapshot`), the
-lane and its share of the work bounds alone, so their outcomes, merged in the order given
+lane and its budget alone (a share of the work bounds left: :mod:`lamodel.search.budget`), so their outcomes, merged in the order given
 (:meth:`Lanes.merge`), are the same with any number of threads. HiGHS releases the GIL
 while it solves: two lanes take about the time of the longer one on two cores.
 """
@@ -14,12 +14,12 @@ from __future__ import annotations
 import logging
 import queue
 import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..options import Stopped
+from ..workers import threads
 
 log = logging.getLogger(__name__)
 
@@ -99,17 +99,16 @@ class Lanes:
 
     def beside(self, lanes, start, workers=1, phase="continuation"):
         """Independent ``lanes`` from this search's state, side by side in up to ``workers``
-        threads, each a pure evaluation of a snapshot with an equal share of the work bounds
-        left, merged in the order given. Returns the least certified state of each lane
-        (None: none); raises Stopped, after merging, where the deadline ended them."""
+        threads, each a pure evaluation of a snapshot under its budget (an equal share of the
+        work bounds left: :meth:`~lamodel.search.budget.Budget.share`), merged in the order
+        given. Returns the least certified state of each lane (None: none); raises Stopped,
+        after merging, where the time cap or a stop ended them."""
         e, budget = self.engine, self.engine.budget
-        p = e.problem
         if not lanes or budget.spent():
             return [None] * len(lanes)
         t = time.perf_counter()
         snap = self.snapshot()
-        lps, work = budget.shares(len(lanes))
-        tasks = [(run_pure, (snap, lane, start, lps, work, p.deadline)) for lane in lanes]
+        tasks = [(run_pure, (snap, lane, start, share)) for lane, share in zip(lanes, budget.share(len(lanes)))]
         log.info("%s: lanes %s", phase, " beside ".join(f"[{', '.join(lane.names)}]" for lane in lanes))
         try:
             outcomes = side_by_side(self.new_engine, tasks, workers, running=self.running)
@@ -118,21 +117,22 @@ class Lanes:
         _log_lanes(lanes, outcomes)
         for _, states, n, learned in outcomes:
             self.merge(states, n, learned)
-        if any(stopped for stopped, *_ in outcomes) and p.deadline.expired():
+        if any(stopped for stopped, *_ in outcomes) and budget.expired():
             raise Stopped()
         return [min(states, key=lambda st: st.alpha, default=None) for _, states, _, _ in outcomes]
 
-    def alongside(self, here, there, start, workers=1, real=None, phase="first certificate"):
+    def alongside(self, here, there, start, workers=1, phase="first certificate"):
         """Lane ``here`` on this engine, in this thread, as if alone, while the ``there``
         lanes run as pure evaluations from a snapshot taken before (other threads with
         ``workers`` > 1, else after ``here``), each with the whole first-certificate work
         left (their bound their own, so the answer does not depend on the threads), merged
         after ``here``. The search goes on from the bases of a ``there`` lane that certified
-        a lower alpha than ``here`` (why: docs/method/evidence.md). ``real``: the search's
-        deadline, where the ``there`` lanes stop."""
+        a lower alpha than ``here`` (why: docs/method/evidence.md). The ``there`` lanes stop
+        at the search's time cap, not at the first certificate's bound
+        (:meth:`~lamodel.search.budget.Budget.side_lane`)."""
         e, budget = self.engine, self.engine.budget
         p = e.problem
-        left = budget.side_lane()
+        side = budget.side_lane()
         t = time.perf_counter()
         raised = []
 
@@ -143,8 +143,7 @@ class Lanes:
                 raised.append(stop)
 
         snap = self.snapshot()
-        real = real or p.deadline
-        tasks = [(run_pure, (snap, lane, start, None, left, real)) for lane in there]
+        tasks = [(run_pure, (snap, lane, start, side)) for lane in there]
         log.info("nothing certified by the alternation: lanes %s",
                  " beside ".join(f"[{', '.join(lane.names)}]" for lane in (here, *there)))
         try:
@@ -163,7 +162,7 @@ class Lanes:
                 p.restart(learned["bases"])  # go on from the lane that certified the least alpha
         if raised:
             raise raised[0]
-        if any(stopped for stopped, *_ in outcomes) and real.expired():
+        if any(stopped for stopped, *_ in outcomes) and budget.expired():
             raise Stopped()
 
 
@@ -176,31 +175,27 @@ def _log_lanes(lanes, outcomes):
 
 
 # ------------------------------------------------------------------ pure evaluations
-def run_pure(engine, snap: dict, lane: Lane, start: Start, lps, work, deadline):
+def run_pure(engine, snap: dict, lane: Lane, start: Start, budget):
     """``lane`` as a pure function of the snapshot (its bases, caches and ``best`` state,
-    below which a stalled start goes on), ending between two solves after ``lps`` LP solves
-    or ``work`` LP work of its own in all (None: no bound). Returns (stopped: the deadline
-    ended it, certified states in the order found, LP solves, learned), what it certified
-    before a stop included."""
-    budget = engine.budget
-    with PureRun(engine, snap, deadline, keep_stopped=True) as run:
-        budget.bound(None if lps is None else engine.problem.n_lps() + lps,
-                     None if work is None else budget.work() + work)
-        try:
-            lane.run(engine, start)
-        finally:
-            budget.bound(None, None)
+    below which a stalled start goes on), under ``budget`` (a child
+    :class:`~lamodel.search.budget.Budget`: its time cap, and the LP solves and LP work it
+    allows, ending between two solves). Returns (stopped: the time cap or a stop ended it,
+    certified states in the order found, LP solves, learned), what it certified before a
+    stop included."""
+    with PureRun(engine, snap, budget, keep_stopped=True) as run:
+        lane.run(engine, start)
     return (run.stopped,) + run.outcome()
 
 
 class PureRun:
     """The context of a pure evaluation on ``engine``: the LPs restarted from the
     snapshot's bases, its caches, a record holding only the snapshot's best state, every
-    certified state collected, ``deadline`` on every solve. With ``keep_stopped`` a
-    Stopped ends the block quietly (``stopped`` tells)."""
+    certified state collected, the engine under ``budget`` (a child
+    :class:`~lamodel.search.budget.Budget`). With ``keep_stopped`` a Stopped ends the block
+    quietly (``stopped`` tells)."""
 
-    def __init__(self, engine, snap, deadline, keep_stopped=False):
-        self.engine, self.snap, self.deadline, self.keep_stopped = engine, snap, deadline, keep_stopped
+    def __init__(self, engine, snap, budget, keep_stopped=False):
+        self.engine, self.snap, self.budget, self.keep_stopped = engine, snap, budget, keep_stopped
         self.found, self.stopped = [], False
 
     def __enter__(self):
@@ -211,12 +206,10 @@ class PureRun:
         e.record.forget(best=self.snap.get("best"), on_state=self.found.append)
         e.lanes.forget()
         self.lps, self.work = p.n_lps(), p.work()
-        self._until = p.until(self.deadline)
-        self._until.__enter__()
+        e.budget.run_under(self.budget)
         return self
 
     def __exit__(self, kind, exc, tb):
-        self._until.__exit__(kind, exc, tb)
         if kind is not None and issubclass(kind, Stopped):
             self.engine.lanes.stopped = True
             if self.keep_stopped:
@@ -273,7 +266,7 @@ def side_by_side(new_engine, tasks, workers: int, running=None):
     workers = max(1, min(int(workers), len(tasks)))
     if workers == 1:
         return [engines.run(task, *args) for task, args in tasks]
-    with ThreadPoolExecutor(workers, thread_name_prefix="lamodel-start") as pool:
+    with threads(workers, "start") as pool:
         futures = [pool.submit(engines.run, task, *args) for task, args in tasks]
         return [future.result() for future in futures]
 
@@ -289,7 +282,7 @@ def _alongside(here, new_engine, tasks, workers: int, running=None):
         finally:
             outcomes = side_by_side(new_engine, tasks, 1, running)
         return outcomes
-    with ThreadPoolExecutor(1, thread_name_prefix="lamodel-lanes") as pool:
+    with threads(1, "lanes") as pool:
         future = pool.submit(side_by_side, new_engine, tasks, int(workers) - 1, running)
         try:
             here()

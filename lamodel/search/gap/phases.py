@@ -53,13 +53,13 @@ def stable(engine) -> bool:
 def first_certificate(engine, x_assoc, here, there, workers=1):
     """The gap alternation from the associative statics and, if it certifies nothing, lane
     ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
-    Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`)."""
-    real = engine.problem.deadline  # the side lanes stop there, not at the first bound
+    Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`; the side
+    lanes stop at the time cap, not there)."""
 
     def run():
         _, x = engine.alternation.alternate(x_assoc, source="gap")
         if engine.record.best is None:
-            engine.lanes.alongside(here, there, Start(x_assoc, x), workers, real)
+            engine.lanes.alongside(here, there, Start(x_assoc, x), workers)
 
     engine.budget.first(run, lambda: engine.record.best is not None)
 

@@ -34,7 +34,7 @@ from ..highs import INF, HighsLP
 from ..options import Deadline
 from ..state import CollapseState
 from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LIGHT_BLOCK, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
-from .program import CAPPED, Scoped
+from .program import CAPPED
 
 log = logging.getLogger(__name__)
 
@@ -44,13 +44,13 @@ def state_residuals(form: Formulation, state: CollapseState) -> dict:
     return residuals(form, state.N, state.V, state.M, state.alpha, state.u, state.xi)
 
 
-class ScaledProblem(Scoped):
+class ScaledProblem:
     """The LPs of one planar structure, scaled, built once and warm-started from solve to
     solve: the plane's :class:`~.program.GapProgram`.
 
     ``stat`` is the statics LP (columns lambda, alpha), ``coh`` the cohesive LP (columns
     n1, n2, V per contact, alpha) and ``coh_r`` a copy of it for mechanisms restricted to
-    some rows. Every solve is given ``deadline`` (:meth:`until` gives another for a while);
+    some rows. Every solve is given ``deadline`` (its engine's budget's, read at the call);
     methods raise :class:`~lamodel.search.options.Stopped` when it fires.
     """
 

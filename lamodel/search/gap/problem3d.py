@@ -42,12 +42,11 @@ from ..options import Deadline
 from ..tuning import (ALIGN_CAP_ROWS, ALIGN_IPM_CAP, CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS,
                       CONE_LP_FIRST_POINTS, MECHANISMS_REMEMBERED, STABLE_ALPHA_CONE, WORK_FLOOR_CONE,
                       WORK_PER_BLOCK_CONE)
-from .program import Scoped
 
 log = logging.getLogger(__name__)
 
 
-class ConeProblem(Scoped):
+class ConeProblem:
     """The cone programs of one 3D structure, scaled (see the module doc)."""
 
     #: no Ipopt polish in space (the search's states are certified as they are)

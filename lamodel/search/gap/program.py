@@ -29,7 +29,6 @@ Words used below:
 """
 from __future__ import annotations
 
-from contextlib import AbstractContextManager, contextmanager
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -43,8 +42,9 @@ CAPPED = "capped"
 class GapProgram(Protocol):
     """The formulation interface of the search (see the module doc).
 
-    Every program solve is given :attr:`deadline` and raises
-    :class:`~lamodel.search.options.Stopped` when it fires.
+    Every program solve is given :attr:`deadline`, read at the call (its engine's budget:
+    the time cap, a stop, the work bounds that apply then; :mod:`lamodel.search.budget`),
+    and raises :class:`~lamodel.search.options.Stopped` when it fires.
     """
 
     #: friction coefficients, one a contact (plane) or contact point (space)
@@ -77,9 +77,6 @@ class GapProgram(Protocol):
     def work_bound(self) -> float:
         """Without a time limit the search stops at this much :meth:`work`, its first
         certificate at FIRST_WORK times it."""
-
-    def until(self, deadline) -> AbstractContextManager:
-        """Within the block every solve is given ``deadline``."""
 
     def bases(self) -> dict:
         """The warm bases by name, portable (they pickle)."""
@@ -152,20 +149,3 @@ class GapProgram(Protocol):
 
     def to_user(self, state):
         """A scaled state in the user's units, re-checked there."""
-
-
-class Scoped:
-    """What both formulations share: a deadline every solve is given, scoped by
-    :meth:`until` (e.g. a pure evaluation's, or the whole time limit for the Ipopt points
-    after the search's share)."""
-
-    deadline = None
-
-    @contextmanager
-    def until(self, deadline):
-        """Within the block every solve is given ``deadline``."""
-        before, self.deadline = self.deadline, deadline
-        try:
-            yield self
-        finally:
-            self.deadline = before

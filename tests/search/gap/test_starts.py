@@ -1,7 +1,9 @@
 """The starts of the gap alternation."""
 import numpy as np
+import pytest
 
 from lamodel.search.gap import GapSearch
+from lamodel.search.options import Stopped
 from lamodel.search.tuning import RHO_CONTS
 
 from .helpers import bond, collapse_violation
@@ -67,6 +69,9 @@ def test_a_continuation_ends_between_two_lps_at_the_work_bound():
     Continuation().run(e, Start(x0))
     assert e.n_lps() == e.budget.work_limit
     assert not any(lp.abandoned for lp in e.problem.lps.values())
+    with pytest.raises(Stopped):  # the spent budget stops the next solve before it starts
+        e.problem.statics()
+    e.budget.end()  # the search ended: its work bounds stop no later solve (a verdict's)
     assert e.problem.statics()[0] == "optimal"
 
 
@@ -125,11 +130,12 @@ def test_a_stop_during_the_lanes_keeps_what_they_certified():
 
     import pytest
 
+    from lamodel.search.budget import Budget
     from lamodel.search.options import Deadline, Stopped
 
     s = bond(10, width=25, mu=0.9)
     stop = threading.Event()
-    e = GapSearch(s, deadline=Deadline(None, stop.is_set))
+    e = GapSearch(s, Budget(Deadline(None, stop.is_set)))
     _, _, x0 = associative(e)
     first_certificate(e, x0)
     found = []
