@@ -6,11 +6,14 @@ runs.csv's ``path``; how each works: docs/method/search.md):
    [single block, rescue, chain from zero cohesion, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
-4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
+4. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
+   successive cone (in space)] from the associative statics, each raw answer certified and
+   descended, within the search's work bounds;
+5. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
    lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
    already is left out);
-5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
-6. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
+6. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
+7. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
 order written: the same answer with any number of workers (:mod:`.gap.lanes`).
@@ -32,6 +35,8 @@ from .gap.rescue import Rescue
 from .gap.single import SingleBlocks
 from .genetic import genetic_search
 from .options import Stopped
+from .published.successive_cone import SuccessiveCone
+from .published.successive_lp import SuccessiveLP
 from .tuning import RHO_CONTS
 
 log = logging.getLogger(__name__)
@@ -39,7 +44,9 @@ log = logging.getLogger(__name__)
 #: Where the gap alternation stalls: here (the search's engine), then beside it.
 IF_STALLED = Lane((SingleBlocks(), Rescue(), FromZero(cold=True), FixedPoint()), until_certified=True)
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
-#: After stability: the continuation lanes.
+#: After stability: the published fixed-point methods (each skips the formulation not its own).
+PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
+#: Then the continuation lanes.
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
 
 
@@ -54,7 +61,7 @@ def continuations(engine, x_assoc, workers=1):
 
 
 def run(engine, opt, progress, client=None, on_associative=None, stall_work=None):
-    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`, with its work bounds:
+    """Phases 1-6 on ``engine`` (a :class:`.gap.GapSearch`, with its work bounds:
     :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`). Returns (what, alpha_assoc,
     LP solves of the first certificate): what is 'searched', 'stopped' (a stop or the time
     limit), 'unstable', or the associative LP's failure word."""
@@ -79,6 +86,9 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
         engine.budget.after_first(lps_first)  # the bounds of the rest of the search (none under a time limit)
         if x0 is not None and np.isfinite(alpha_assoc):
+            if PUBLISHED.strategies:
+                phase(progress, "published methods")
+                phases.published(engine, x0, PUBLISHED, workers)
             phase(progress, "continuation")
             continuations(engine, x0, workers)
         # the GA also runs when the first phases stalled: its perturbations of the

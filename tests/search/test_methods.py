@@ -81,7 +81,7 @@ def test_basic_successive_lp_converges_to_a_collapse_state(wall33, monkeypatch):
     # without Gilbert et al.'s modification (zero fictitious friction, no cohesion c0, no
     # relaxation) a converged iteration is an exact collapse state: the cohesion -mu N of
     # its own normal forces (the seed's second theorem)
-    import lamodel.search.methods as methods
+    import lamodel.search.published.successive_lp as methods
     for name, value in (("SLP_ALPHA0", 0.0), ("SLP_ALPHA_MIN", 0.0), ("SLP_BETA", 1.0), ("SLP_COHESION", 0.0)):
         monkeypatch.setattr(methods, name, value)
     r = run_method("successive-lp", wall33)

@@ -1,6 +1,6 @@
 """The phases of the search that are not lanes: the associative statics, the first
 certificate (the gap alternation, and lanes where it stalls), stability; and the
-continuations' lanes. The plan (:mod:`lamodel.search.plan`) names the lanes."""
+published methods' and the continuations' lanes. The plan (:mod:`lamodel.search.plan`) names the lanes."""
 from __future__ import annotations
 
 import time
@@ -62,6 +62,13 @@ def first_certificate(engine, x_assoc, here, there, workers=1):
             engine.lanes.alongside(here, there, Start(x_assoc, x), workers, real)
 
     engine.budget.first(run, lambda: engine.record.best is not None)
+
+
+def published(engine, x_assoc, lane, workers=1):
+    """The published methods' ``lane`` from the associative statics, a pure evaluation
+    (:meth:`.lanes.Lanes.beside`) with the work bounds left: its states, LP solves and work
+    merged into the search's, the LPs' bases left as they were."""
+    return engine.lanes.beside([lane], Start(x_assoc), workers, phase="published methods")[0]
 
 
 def continuations(engine, x_assoc, lanes, workers=1):
