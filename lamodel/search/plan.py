@@ -6,13 +6,13 @@ runs.csv's ``path``; how each works: docs/method/search.md):
    [single block, rescue, chain from zero cohesion, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
-4. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
-   successive cone (in space)] from the associative statics, each raw answer certified and
-   descended, within the search's work bounds;
-5. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
+4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
    lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
    already is left out);
-6. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
+5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
+6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
+   successive cone (in space)] from the associative statics, each raw answer certified and
+   descended, its work counted and bounded (:func:`.gap.phases.published`);
 7. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
@@ -44,10 +44,10 @@ log = logging.getLogger(__name__)
 #: Where the gap alternation stalls: here (the search's engine), then beside it.
 IF_STALLED = Lane((SingleBlocks(), Rescue(), FromZero(cold=True), FixedPoint()), until_certified=True)
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
-#: After stability: the published fixed-point methods (each skips the formulation not its own).
-PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
-#: Then the continuation lanes.
+#: After stability: the continuation lanes.
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
+#: After the GA: the published fixed-point methods (each skips the formulation not its own).
+PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
 
 
 def first_certificate(engine, x_assoc, workers=1):
@@ -86,15 +86,15 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
         engine.budget.after_first(lps_first)  # the bounds of the rest of the search (none under a time limit)
         if x0 is not None and np.isfinite(alpha_assoc):
-            if PUBLISHED.strategies:
-                phase(progress, "published methods")
-                phases.published(engine, x0, PUBLISHED, workers)
             phase(progress, "continuation")
             continuations(engine, x0, workers)
         # the GA also runs when the first phases stalled: its perturbations of the
         # associative cohesions are the next way to a certificate
         phase(progress, "GA + LP")
         genetic_search(engine, opt, client, lps_first, stall_work)
+        if x0 is not None and np.isfinite(alpha_assoc) and PUBLISHED.strategies:
+            phase(progress, "published methods")
+            phases.published(engine, x0, PUBLISHED, workers)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first

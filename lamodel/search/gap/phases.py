@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from ..highs import INF
+from ..tuning import PUBLISHED_SHARE
 from .lanes import Start
 
 
@@ -65,9 +66,13 @@ def first_certificate(engine, x_assoc, here, there, workers=1):
 
 
 def published(engine, x_assoc, lane, workers=1):
-    """The published methods' ``lane`` from the associative statics, a pure evaluation
-    (:meth:`.lanes.Lanes.beside`) with the work bounds left: its states, LP solves and work
-    merged into the search's, the LPs' bases left as they were."""
+    """The published methods' ``lane`` from the associative statics, after the rest of the
+    search (which it leaves as it was: the same states, the same work), a pure evaluation
+    (:meth:`.lanes.Lanes.beside`): its states, LP solves and work merged into the search's.
+    Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far."""
+    budget = engine.budget
+    if budget.rule is not None:
+        budget.bound(None, budget.work() * (1.0 + PUBLISHED_SHARE))
     return engine.lanes.beside([lane], Start(x_assoc), workers, phase="published methods")[0]
 
 

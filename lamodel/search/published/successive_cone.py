@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..options import Stopped
+from .successive_lp import own
 from ..tuning import (SUCCESSIVE_CONE_ALPHA_TOL, SUCCESSIVE_CONE_C_TOL, SUCCESSIVE_CONE_RELAXATION,
                       SUCCESSIVE_CONE_STEPS)
 
@@ -58,7 +59,7 @@ class SuccessiveCone:
             with p.until(engine.budget.bounded()):
                 best, _ = successive_cone(engine, start.x_assoc, "scp")
                 if best is not None:
-                    best = engine.descent.descend(best)
+                    best = own(engine, engine.descent.descend(best), "scp")
         except Stopped:
             if p.deadline.expired():
                 raise

@@ -30,6 +30,7 @@ the modified surfaces, not exactly of the frictional assembly; the certification
 """
 from __future__ import annotations
 
+import copy
 import time
 from dataclasses import dataclass
 
@@ -101,7 +102,11 @@ def iterate(lps, N_assoc, stop=None) -> Iteration:
     while out.lps < SLP_MAX_ITERATIONS and not (stop is not None and stop()):
         out.lps += 1
         if lp is None or lp_a != a:
+            # a new fictitious friction: a new LP of the same shape, warm from the last basis
+            basis = None if lp is None else lp.portable_basis()
             lp, lp_a = gilbert_lp(lps, a), a
+            if basis is not None:
+                lp.restart(basis)
         cap = c0 - (1.0 + a) * mu * np.minimum(N_hat, 0.0)
         lp.set_row_bounds(np.full(2 * nc, -INF), np.concatenate([cap, cap]), rows)
         res = lps.run(lp)
@@ -191,4 +196,19 @@ def certified(engine, raw, source):
     s = np.concatenate([N, V, M])
     near = engine.near.certify_slack(-(engine.problem.Y @ s), max(float(np.abs(s).max()), 1.0),
                                      np.minimum(N, 0.0), source + "-near", tols=ACTIVE_TOLERANCES, first=True)
-    return near if near is not None and (best is None or near.alpha < best.alpha) else best
+    best = near if near is not None and (best is None or near.alpha < best.alpha) else best
+    return own(engine, best, source)
+
+
+def own(engine, state, source):
+    """``state`` as this lane's answer: one the caches gave (a certification or descent
+    another path made first, and did not keep) is named after the lane and told to the
+    record like a new one (runs.csv's ``path`` says which lane reached it)."""
+    if state is None or state.source.startswith(source):
+        return state
+    state = copy.copy(state)
+    state.source = f"{source}+{state.source}"
+    if engine.record.on_state is not None:
+        engine.record.on_state(state)
+    engine.record.take(state)
+    return state
