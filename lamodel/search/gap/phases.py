@@ -69,10 +69,11 @@ def published(engine, x_assoc, lane, workers=1):
     """The published methods' ``lane`` from the associative statics, after the rest of the
     search (which it leaves as it was: the same states, the same work), a pure evaluation
     (:meth:`.lanes.Lanes.beside`): its states, LP solves and work merged into the search's.
-    Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far."""
+    Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far,
+    within the formulation's work bound (the default run's whole-search bound)."""
     budget = engine.budget
     if budget.rule is not None:
-        budget.bound(None, budget.work() * (1.0 + PUBLISHED_SHARE))
+        budget.bound(None, min(budget.work() * (1.0 + PUBLISHED_SHARE), engine.problem.work_bound()))
     return engine.lanes.beside([lane], Start(x_assoc), workers, phase="published methods")[0]
 
 
