@@ -71,9 +71,12 @@ def associative_lp(lps):
 
 def start_state(lps, assoc, source="associative"):
     """A complete start point of eq. (5): the associative statics and the mechanism of the
-    fictitious system with cohesion -mu N of those statics (the cohesive LP's duals)."""
+    fictitious system with cohesion -mu N of those statics (the cohesive LP's duals); None
+    where that LP ends without an optimum (e.g. at the time limit)."""
     N, V, M, alpha = lps.split(assoc.x)
     res, u, xi = lps.cohesive(-lps.structure.mu * N)
+    if not res.ok:
+        return None
     return CollapseState(alpha=alpha, N=N, V=V, M=M, u=u, xi=xi, flow=xi > 0, source=source)
 
 
