@@ -177,18 +177,19 @@ def test_unknown_method_is_one_line_exit_2():
 
 @pytest.mark.slow
 def test_method_all_gives_each_method_a_share_of_the_time_limit():
-    # wall55: the MPEC and the seed's GA each take longer than a share of 4 s without a
-    # limit (Ipopt); every method reports, none past an equal share of the time left
-    limit = 4.0
+    # wall55: the MPEC and the seed's GA each take longer than a share of 5 s without a
+    # limit (Ipopt); every method reports, none past an equal share of the time left (give
+    # or take a second on a loaded machine: a solve ends at its next check of the clock)
+    limit = 5.0
     s = read_dat(INSTANCES / "wall55.dat")
     t = time.perf_counter()
     results = run_methods("all", s, SolveOptions(time_limit=limit, starts=1, workers=1), (4, 3))
-    assert time.perf_counter() - t <= limit + 1.0
+    assert time.perf_counter() - t <= limit + 1.5
     assert [r.method for r in results] == list(METHODS)
     spent = 0.0
     for i, r in enumerate(results):
         share = (limit - spent) / (len(results) - i)
-        assert r.seconds <= share + 0.5, (r.method, r.seconds, share)
+        assert r.seconds <= share + 1.0, (r.method, r.seconds, share)
         assert r.notes and r.status  # it reports, certified or not
         spent += r.seconds
     assert results[-1].certified  # lamodel's search, in what the others left

@@ -26,11 +26,11 @@ class MPEC:
     def method(self, structure, options, lps, assoc, t0, deadline=None):
         from ..ipopt import ipopt_ladder
         result = MethodResult(self.name, structure, alpha_associative=assoc.alpha, seed=options.seed)
-        model, nlp = ipopt_model(structure, options)
         start = start_state(lps, assoc)
         if start is None:  # the cohesive LP of the start stopped (the time limit) or failed
             return result.failed("no start point: the cohesive LP of the associative statics ended without an "
                                  f"optimum{' (time limit)' if lps.deadline.expired() else ''}", t0)
+        model, nlp = ipopt_model(structure, options)
         raw, message, iterations = ipopt_ladder(model, nlp, structure, start, MPEC_LADDER, options.ipopt_options,
                                                 deadline or Deadline())
         result.iterations = iterations
