@@ -11,10 +11,12 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    [single block, rescue, chain from zero cohesion, fixed-point fallback] beside [dilatancy
    continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`: no
    improvement for a while, counted in evaluations and LP solves against those of the
-   first certificate, at most ``generations`` generations, or the time limit). Without a
-   time limit the search is bounded by counted work, not time (:mod:`.budget`): the first
-   certificate at FIRST_WORK times the formulation's work bound, the whole search at
-   TOTAL_WORK times the first certificate's LP solves and WORK_PER_BLOCK LP work a block.
+   first certificate, at most ``generations`` generations, or the time limit); the lane
+   of the published fixed-point methods (:mod:`.published`). Without a time limit the
+   search is bounded by counted work, not time (:mod:`.budget`): the first certificate at
+   FIRST_WORK times the formulation's work bound, the whole search at TOTAL_WORK times the
+   first certificate's LP solves and WORK_PER_BLOCK LP work a block (the published
+   methods' lane: PUBLISHED_SHARE times the work before it, within the latter).
 3. **Ipopt polish.** The best distinct certified states start Ipopt on eq. (5) (the bilinear
    condition relaxed to ``0 <= alpha_K - alpha <= eps``, eps -> 0) in worker processes,
    when the model is small enough: a start is skipped, with the reason in runs.csv, when
