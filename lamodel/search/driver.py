@@ -11,7 +11,9 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    [single block, rescue, chain from zero cohesion, fixed-point fallback] beside [dilatancy
    continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`: no
    improvement for a while, counted in evaluations and LP solves against those of the
-   first certificate, at most ``generations`` generations, or the time limit). The search
+   first certificate, at most ``generations`` generations, or the time limit); the lane
+   of the published fixed-point methods (:mod:`.published`, PUBLISHED_SHARE times the work
+   before it, within the work bound). The search
    runs under one budget (:mod:`.budget`), made once here: the time limit as a hard cap
    and, without one, counted work, not time: the first certificate at FIRST_WORK times the
    formulation's work bound, the whole search at TOTAL_WORK times the first certificate's
@@ -37,7 +39,6 @@ import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, wait
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass, field
 
 import numpy as np
 from threadpoolctl import threadpool_limits
@@ -50,8 +51,9 @@ from .budget import Budget
 from .ipopt import start_pool
 from .options import SolveOptions, Stopped
 from .plan import phase, run as run_plan
+from .outcome import Outcome
 from .progress import Progress
-from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, CollapseState, Run,
+from .state import (CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, Run,
                     unstable_message)
 from .tuning import (ACTIVE_TOLERANCES, BLAS_THREADS, DEFAULT_STARTS, EPSILON_LADDER, FIRST_WORK, IPOPT_GROWTH,
                      IPOPT_ITERATIONS, IPOPT_SECONDS_1020, POLISH_SECONDS, STALL_WORK)
@@ -64,33 +66,6 @@ __all__ = ["Outcome", "Run", "SolveOptions", "solve", "ipopt_seconds"]
 def ipopt_seconds(n_blocks: int) -> float:
     """Estimated seconds of one Ipopt start on eq. (5) (the model of :mod:`.tuning`)."""
     return IPOPT_ITERATIONS * IPOPT_SECONDS_1020 * (n_blocks / 1020.0) ** IPOPT_GROWTH
-
-
-@dataclass
-class Outcome:
-    """What the driver found; :mod:`lamodel.output.report` turns it into tables."""
-
-    structure: Structure | Structure3D
-    best: CollapseState | None                      # (a CollapseState3D in space)
-    alpha_associative: float
-    runs: list
-    status: str                # one of lamodel.search.state.STATUSES (all but failed)
-    message: str
-    wall_time_s: float
-    seed: int
-    first: tuple = (np.nan, np.nan)                 # (alpha, seconds) of the first certificate
-    phases: dict = field(default_factory=dict)      # seconds per phase of the search
-    history: list = field(default_factory=list)     # (seconds, alpha, source, LP solves) of each improvement
-    lps_first: int = 0                              # LP solves of the first phase (the stopping rule's unit)
-    work: int = 0                                   # LP work of the search (HighsLP.work: iterations x rows)
-    certification_lps: int = 0                      # in space: the certification LPs among the solves
-    #: nothing certified: (alpha, alpha_K, relative gap, rows holding it) of the search's
-    #: step nearest a collapse state (Record.stall); None otherwise
-    stalled: tuple | None = None
-
-    @property
-    def certified(self) -> bool:
-        return self.best is not None
 
 
 def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None,
@@ -187,13 +162,15 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
 #: The paths that certify a state, by the first word of its source (runs.csv, ``path``).
 PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fallback",
          "zero": "chain from zero cohesion", "continuation": "continuation", "dilatancy": "dilatancy continuation",
-         "genome": "GA", "ipopt": "Ipopt polish", "single": "single block"}
+         "genome": "GA", "ipopt": "Ipopt polish", "single": "single block", "slp": "successive LP",
+         "scp": "successive cone"}
 
 
 def path_of(state) -> str:
     """Which path of the search certified ``state`` (empty for None): the gap alternation,
     its rescue, the fixed-point fallback (:mod:`.gap.chains`), the chain from zero
-    cohesion, a continuation start, the GA or the Ipopt polish; a descent from a state
+    cohesion, a published method's lane (:mod:`.published`), a continuation start, the GA
+    or the Ipopt polish; a descent from a state
     keeps its path."""
     if state is None:
         return ""

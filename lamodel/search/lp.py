@@ -78,6 +78,7 @@ class LimitLPs:
                                 np.concatenate([np.full(3 * nb, -INF), np.zeros(4 * nc)]),
                                 np.concatenate([np.full(3 * nb, INF), np.full(4 * nc, INF)]))
         self.n_solves = 0
+        self.work = 0  # LP work of the solves (HighsLP.work: iterations x rows), counted as a search counts it
 
     # ------------------------------------------------------------------------ pieces
     def split(self, x):
@@ -96,7 +97,7 @@ class LimitLPs:
         cost = np.zeros(self.nvar)
         cost[-1] = -1.0
         self._statics.set_cost(cost)
-        return self._run(self._statics)
+        return self.run(self._statics)
 
     def statics(self, active, minimize: bool = True) -> LPResult:
         """min (max) alpha over S with the yield rows `active` (indices into 4 nc) at equality."""
@@ -110,7 +111,7 @@ class LimitLPs:
         cost = np.zeros(self.nvar)
         cost[-1] = 1.0 if minimize else -1.0
         self._statics.set_cost(cost)
-        return self._run(self._statics)
+        return self.run(self._statics)
 
     def cohesive(self, c) -> tuple[LPResult, np.ndarray | None, np.ndarray | None]:
         """alpha_as(c): max alpha with |V| <= c; returns (result, u, xi) with (u, xi) its mechanism.
@@ -122,7 +123,7 @@ class LimitLPs:
         nc, nb = self.nc, self.nb
         c = np.maximum(np.asarray(c, dtype=float), 0.0)
         self._cohesive.set_bounds(-c, c, np.arange(nc, 2 * nc))
-        res = self._run(self._cohesive)
+        res = self.run(self._cohesive)
         if not res.ok:
             return res, None, None
         u = -res.row_dual[:3 * nb]
@@ -145,18 +146,22 @@ class LimitLPs:
         mu_n = self.structure.mu * np.asarray(N_hat, dtype=float)
         cost = np.concatenate([-self.f0, -mu_n, -mu_n, np.zeros(2 * nc)])
         self._mech.set_cost(cost)
-        res = self._run(self._mech)
+        res = self.run(self._mech)
         if not res.ok:
             return res, None, None
         return res, res.x[:3 * nb], np.maximum(res.x[3 * nb:], 0.0)
 
-    def _run(self, lp: HighsLP) -> LPResult:
-        """Solve ``lp`` within this object's deadline ("time limit" after it)."""
+    def run(self, lp: HighsLP) -> LPResult:
+        """Solve ``lp`` (one of these LPs, or a method's own) within this object's
+        deadline ("time limit" after it), counting the solve and its work."""
         self.n_solves += 1
+        before = lp.work
         try:
             status = lp.solve(deadline=self.deadline)
         except Stopped:
             return LPResult(status="time limit")
+        finally:
+            self.work += lp.work - before
         if status != "optimal":
             return LPResult(status=status)
         x = lp.x()

@@ -10,7 +10,10 @@ runs.csv's ``path``; how each works: docs/method/search.md):
    lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
    already is left out);
 5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
-6. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
+6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
+   successive cone (in space)] from the associative statics, each raw answer certified and
+   descended, its work counted and bounded (:func:`.gap.phases.published`);
+7. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
 order written: the same answer with any number of workers (:mod:`.gap.lanes`).
@@ -31,6 +34,8 @@ from .gap.rescue import Rescue
 from .gap.single import SingleBlocks
 from .genetic import genetic_search
 from .options import Stopped
+from .published.successive_cone import SuccessiveCone
+from .published.successive_lp import SuccessiveLP
 from .tuning import RHO_CONTS
 
 log = logging.getLogger(__name__)
@@ -40,6 +45,8 @@ IF_STALLED = Lane((SingleBlocks(), Rescue(), FromZero(cold=True), FixedPoint()),
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
 #: After stability: the continuation lanes.
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
+#: After the GA: the published fixed-point methods (each skips the formulation not its own).
+PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
 
 
 def first_certificate(engine, x_assoc, workers=1):
@@ -53,7 +60,7 @@ def continuations(engine, x_assoc, workers=1):
 
 
 def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1):
-    """Phases 1-5 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
+    """Phases 1-6 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
     :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the
     lanes' threads (:mod:`.workers`). Returns (what, alpha_assoc, LP solves of the first
     certificate): what is 'searched', 'stopped' (a stop or the time limit), 'unstable', or
@@ -84,6 +91,9 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         # associative cohesions are the next way to a certificate
         phase(progress, "GA + LP")
         genetic_search(engine, opt, client, lps_first, stall_work)
+        if x0 is not None and np.isfinite(alpha_assoc) and PUBLISHED.strategies:
+            phase(progress, "published methods")
+            phases.published(engine, x0, PUBLISHED, workers)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first

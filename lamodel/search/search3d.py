@@ -8,7 +8,7 @@ runs it, or one of the methods beside it, each raw answer certified by the searc
 certifier:
 
 * ``gap`` without exploring: the gap alternation from the associative statics;
-* ``successive``: successive cone programming (:func:`lamodel.search.methods.successive_cone`);
+* ``successive``: successive cone programming (:func:`lamodel.search.published.successive_cone.successive_cone`);
 * ``associative``: the associative cone program's own mechanism, certified (a collapse
   state only where it moves without dilatancy).
 """
@@ -105,7 +105,7 @@ def _method(structure, method, deadline) -> Result3D:
     from .budget import Budget
     from .gap import GapSearch
     from .gap.phases import associative, stable
-    from .methods import successive_cone
+    from .published.successive_cone import successive_cone
     from .state import CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, unstable_message
     t0 = time.perf_counter()
     eng = GapSearch(structure, Budget(deadline))

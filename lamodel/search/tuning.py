@@ -255,7 +255,11 @@ ALIGN_ROUND_OFF = 1e-15
 #: Newton steps of its polish (certify3d.polish_mechanism): safety bounds.
 PROJECTION_REFINEMENTS, POLISH_NEWTON_STEPS = 4, 40
 
-# ======================================== the published methods (search/methods.py)
+# ======================================== the published methods (search/published/)
+#: Their lane in the default run (plan.PUBLISHED, after the GA) may spend this many times the
+#: search's LP work so far (its LPs have 4 rows a contact more than the search's; the 50-stone
+#: wall where it gives the best needs 3.5, less gives nothing there: benchmarks/lanes.py).
+PUBLISHED_SHARE = 4.0
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
 SLP_TOLERANCE = 1e-8
 #: successive LP: at most this many LPs after the associative one

@@ -1,6 +1,7 @@
 """Methods side by side (lamodel.search.methods): closed-form answers, raw vs certified,
 and `lamodel solve --method`."""
 import os
+import time
 import subprocess
 import sys
 
@@ -81,7 +82,7 @@ def test_basic_successive_lp_converges_to_a_collapse_state(wall33, monkeypatch):
     # without Gilbert et al.'s modification (zero fictitious friction, no cohesion c0, no
     # relaxation) a converged iteration is an exact collapse state: the cohesion -mu N of
     # its own normal forces (the seed's second theorem)
-    import lamodel.search.methods as methods
+    import lamodel.search.published.successive_lp as methods
     for name, value in (("SLP_ALPHA0", 0.0), ("SLP_ALPHA_MIN", 0.0), ("SLP_BETA", 1.0), ("SLP_COHESION", 0.0)):
         monkeypatch.setattr(methods, name, value)
     r = run_method("successive-lp", wall33)
@@ -172,3 +173,23 @@ def test_unknown_method_is_one_line_exit_2():
     res = lamodel_cli("solve", INSTANCES / "wall33.dat", "--method", "simplex")
     assert res.returncode == 2
     assert len(res.stderr.strip().splitlines()) == 1 and "--method" in res.stderr
+
+
+@pytest.mark.slow
+def test_method_all_gives_each_method_a_share_of_the_time_limit():
+    # wall55: the MPEC and the seed's GA each take longer than a share of 5 s without a
+    # limit (Ipopt); every method reports, none past an equal share of the time left (give
+    # or take a second on a loaded machine: a solve ends at its next check of the clock)
+    limit = 5.0
+    s = read_dat(INSTANCES / "wall55.dat")
+    t = time.perf_counter()
+    results = run_methods("all", s, SolveOptions(time_limit=limit, starts=1, workers=1), (4, 3))
+    assert time.perf_counter() - t <= limit + 1.5
+    assert [r.method for r in results] == list(METHODS)
+    spent = 0.0
+    for i, r in enumerate(results):
+        share = (limit - spent) / (len(results) - i)
+        assert r.seconds <= share + 1.0, (r.method, r.seconds, share)
+        assert r.notes and r.status  # it reports, certified or not
+        spent += r.seconds
+    assert results[-1].certified  # lamodel's search, in what the others left

@@ -1,6 +1,6 @@
 """The phases of the search that are not lanes: the associative statics, the first
 certificate (the gap alternation, and lanes where it stalls), stability; and the
-continuations' lanes. The plan (:mod:`lamodel.search.plan`) names the lanes."""
+published methods' and the continuations' lanes. The plan (:mod:`lamodel.search.plan`) names the lanes."""
 from __future__ import annotations
 
 import time
@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from ..highs import INF
+from ..tuning import PUBLISHED_SHARE
 from .lanes import Start
 
 
@@ -62,6 +63,18 @@ def first_certificate(engine, x_assoc, here, there, workers=1):
             engine.lanes.alongside(here, there, Start(x_assoc, x), workers)
 
     engine.budget.first(run, lambda: engine.record.best is not None)
+
+
+def published(engine, x_assoc, lane, workers=1):
+    """The published methods' ``lane`` from the associative statics, after the rest of the
+    search (which it leaves as it was: the same states, the same work), a pure evaluation
+    (:meth:`.lanes.Lanes.beside`): its states, LP solves and work merged into the search's.
+    Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far,
+    within the formulation's work bound (the default run's whole-search bound)."""
+    budget = engine.budget
+    if budget.rule is not None:
+        budget.bound(None, min(budget.work() * (1.0 + PUBLISHED_SHARE), engine.problem.work_bound()))
+    return engine.lanes.beside([lane], Start(x_assoc), workers, phase="published methods")[0]
 
 
 def continuations(engine, x_assoc, lanes, workers=1):
