@@ -209,6 +209,7 @@ def _bridge(args, prog) -> int:
         spec = bridge_spec(bridge, passive=not args.no_passive)
         structure = structure_from_spec(spec, args.bridge)   # checked before it is written
     out = Path(args.output or Path(args.bridge).with_name(f"{Path(args.bridge).stem}_blocks.json"))
+    out.parent.mkdir(parents=True, exist_ok=True)
     structure_to_json(spec, out)
     picture = plot_bridge(bridge, out.with_suffix(".png"), passive=not args.no_passive)
     _say(f"{out}: {len(structure.blocks)} blocks, {structure.n_contacts} contacts ({structure.restraints} passive "

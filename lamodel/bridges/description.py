@@ -1,5 +1,5 @@
 """A masonry arch bridge as its assessor describes it (JSON, planar, one span), read and
-checked: every bad value is one line naming its field.
+checked: every bad value is one line naming its field::
 
     {"name": "prestwood", "units": {"length": "m", "force": "kN"},
      "span": 6.55, "rise": 1.43, "width": 3.8,
