@@ -11,6 +11,7 @@ import numpy as np
 from ..search.tuning import BRIDGE_POSITIONS
 from .description import Bridge, lateral_coefficient, passive_coefficient
 from .fill import dead_loads, live_loads, restraints
+from .backing import backing_blocks
 from .ring import abutments, voussoirs
 
 
@@ -38,7 +39,7 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
             loads += live
     text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: span "
             f"{bridge.span:g}, rise {bridge.rise:g}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
-            f"{bridge.voussoirs} voussoirs), width {bridge.width:g}; fill {bridge.fill_depth:g} over the crown, "
+            f"{bridge.voussoirs} voussoirs), width {bridge.width:g}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
             f"unit weight {bridge.fill_weight:g}, phi {bridge.phi:g} deg, lateral {bridge.lateral} "
             f"(K = {lateral_coefficient(bridge):.4g}), passive {bridge.passive:g} K_p "
             f"(K_p = {passive_coefficient(bridge.phi):.4g}){'' if passive else ' left out'}, spread "
@@ -50,7 +51,7 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
     spec["loads"] = loads
     if passive:
         spec["restraints"] = restraints(bridge)
-    spec["blocks"] = voussoirs(bridge) + abutments(bridge)
+    spec["blocks"] = voussoirs(bridge) + backing_blocks(bridge) + abutments(bridge)
     return spec
 
 

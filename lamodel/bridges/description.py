@@ -4,7 +4,7 @@ checked: every bad value is one line naming its field::
     {"name": "prestwood", "units": {"length": "m", "force": "kN"},
      "span": 6.55, "rise": 1.43, "width": 3.8,
      "ring": {"thickness": 0.22, "rings": 1, "voussoirs": 30, "unit_weight": 20, "mu": 0.6},
-     "abutments": {"height": 1.0, "width": 1.5},
+     "abutments": {"height": 1.0, "width": 1.5}, "backing": {"height": 0.6},
      "fill": {"depth": 0.2, "unit_weight": 18, "phi": 37, "lateral": "at_rest",
               "passive": 0.33, "spread": 30},
      "load": {"force": 100, "axles": [0], "patch": 0.3, "positions": [-2, 0, 2]}}
@@ -12,7 +12,8 @@ checked: every bad value is one line naming its field::
 Lengths in the file's length unit, x = 0 at mid-span, y = 0 at the springings; the arch is
 segmental (circular; ``rise = span / 2`` is semicircular). ``width`` is the bridge's width
 out of the plane: every force is for the whole width (unit weights are per volume). The
-abutments are rigid supports under each springing (``height`` deep, ``width`` wide).
+abutments are rigid supports under each springing (``height`` deep, ``width`` wide); the
+backing is masonry blocks over the haunches up to ``height`` above the springings.
 ``load`` is an axle group (``force`` per axle, line loads across the width, each on a patch
 ``patch`` long on the road surface; ``axles``: offsets of the axles from the lead one) at
 each lead-axle position of ``positions`` (default: across the span,
@@ -27,7 +28,8 @@ from dataclasses import dataclass, field
 from ..errors import InputError
 from ..io.jsonfields import json_object, load_spec, number, units
 
-TOP_FIELDS = ("name", "description", "units", "span", "rise", "width", "ring", "abutments", "fill", "load")
+TOP_FIELDS = ("name", "description", "units", "span", "rise", "width", "ring", "abutments", "backing", "fill", "load")
+BACKING_FIELDS = ("height",)
 RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu")
 ABUTMENT_FIELDS = ("height", "width")
 FILL_FIELDS = ("depth", "unit_weight", "phi", "lateral", "passive", "spread")
@@ -52,6 +54,7 @@ class Bridge:
     mu: float = 0.6                  # friction of the ring's joints
     abutment_height: float = 1.0
     abutment_width: float = 1.0
+    backing: float = 0.0             # level of the backing's top above the springings (0: none)
     fill_depth: float = 0.0          # over the crown's extrados
     fill_weight: float = 18.0        # unit weight of the fill
     phi: float = 30.0                # the fill's angle of friction (degrees)
@@ -134,6 +137,11 @@ def read_bridge(source) -> Bridge:
     at = f"{where}: abutments"
     b.abutment_height = _positive(abut, "height", at, b.thickness * 2)
     b.abutment_width = _positive(abut, "width", at, b.thickness * 2)
+    back = json_object(spec.get("backing", {}), f"{where}: backing", "'backing'", BACKING_FIELDS)
+    b.backing = _positive(back, "height", f"{where}: backing", 0.0, strict=False)
+    if b.backing >= b.rise + b.thickness:
+        raise InputError(f"{where}: backing: 'height' is {b.backing:g}; expected less than the crown's extrados "
+                         f"{b.rise + b.thickness:g} (0: no backing)")
     _read_fill(b, json_object(spec.get("fill", {}), f"{where}: fill", "'fill'", FILL_FIELDS), f"{where}: fill")
     if "load" in spec:
         _read_load(b, json_object(spec["load"], f"{where}: load", "'load'", LOAD_FIELDS), f"{where}: load")

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..search.tuning import BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES
 from .description import Bridge, lateral_coefficient, passive_coefficient
-from .ring import extrados, extrados_owner
+from .backing import bed
 
 
 def _linear_centroid(lo: float, hi: float, z_lo: float, z_hi: float) -> float:
@@ -41,9 +41,9 @@ def _on_chord(p, q, coordinate: int, value: float):
 
 
 def chords(bridge: Bridge):
-    """(voussoir id, left end, right end) of each extrados chord."""
-    pts = extrados(bridge)
-    return [(extrados_owner(bridge, i), pts[i], pts[i + 1]) for i in range(len(pts) - 1)]
+    """(block, left end, right end) of each segment of the fill's bed: the extrados
+    chords, the backing's top where there is backing (:mod:`.backing`)."""
+    return bed(bridge)
 
 
 def dead_loads(bridge: Bridge) -> list:
@@ -101,7 +101,7 @@ def live_loads(bridge: Bridge, lead: float, case: str) -> list:
     force, moment = np.zeros(len(ch)), np.zeros(len(ch))
     for offset in bridge.axles:
         x0 = lead + offset
-        reach = abs(x0) + bridge.patch / 2 + (bridge.road - extrados(bridge)[0, 1]) * tan
+        reach = abs(x0) + bridge.patch / 2 + (bridge.road - min(p[1] for _, p, _ in ch)) * tan
         xs, dx, zs, owner = _samples(bridge, ch, reach)
         width = np.maximum(bridge.patch + 2 * zs * tan, BRIDGE_KNIFE_EDGE * bridge.span)
         q = np.where(np.abs(xs - x0) <= width / 2, dx / width, 0.0)   # the intensity at depth z, integrated

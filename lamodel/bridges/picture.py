@@ -11,6 +11,7 @@ from ..output.figures import save_figure
 from .build import positions
 from .description import Bridge
 from .fill import restraints
+from .backing import backing_blocks
 from .ring import abutments, extrados, voussoirs
 
 
@@ -26,6 +27,8 @@ def draw_bridge(ax, bridge: Bridge, lead: float | None = None, passive: bool = T
     ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", label="fill"))
     for b in voussoirs(bridge):
         ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#d9a066", edgecolor="#5b3a1a", lw=0.6))
+    for b in backing_blocks(bridge):
+        ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#c9a27a", edgecolor="#5b3a1a", lw=0.6))
     for v in abut.values():
         ax.add_patch(Polygon(v, closed=True, facecolor="#bfbfbf", edgecolor="#404040", hatch="//", lw=0.6))
     ax.plot(fill[-2:, 0], fill[-2:, 1], color="black", lw=1.5)

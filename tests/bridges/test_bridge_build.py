@@ -19,7 +19,7 @@ from lamodel.io.jsonspec import structure_from_spec, structure_to_json
 
 BASE = {"name": "b", "span": 6.0, "rise": 1.5, "width": 2.0,
         "ring": {"thickness": 0.3, "voussoirs": 16, "unit_weight": 20.0, "mu": 0.6},
-        "fill": {"depth": 0.4, "unit_weight": 18.0, "phi": 35.0, "passive": 0.5},
+        "fill": {"depth": 0.4, "unit_weight": 18.0, "phi": 35.0, "passive": 0.5}, "backing": {"height": 0.0},
         "load": {"force": 50.0, "patch": 0.2, "positions": [-1.5, 0.0]}}
 
 
@@ -163,3 +163,27 @@ def test_the_example_builds():
     b = read_bridge(INSTANCES / "bridge_demo.json")
     s = structure_from_spec(bridge_spec(b), "demo")
     assert len(s.cases) == 21 and s.restraints == 24
+
+
+def test_backing_blocks_carry_the_fill_above_them():
+    from lamodel.bridges.backing import backing_blocks, bed
+    b = bridge(backing={"height": 1.0})
+    blocks = backing_blocks(b)
+    assert {"backing_left", "backing_right"} <= {x["id"] for x in blocks}
+    s = structure_from_spec(bridge_spec(b), "b")
+    ids = set(s.blocks)
+    assert all(x["id"] in ids for x in blocks)
+    # every backing block touches its voussoir or a neighbour; the ends stand on the abutments
+    pairs = set(zip(s.block_a, s.block_b))
+    assert ("abutment_left", "backing_left") in pairs and ("abutment_right", "backing_right") in pairs
+    # the whole dead load: ring and backing (masonry) and the fill between the road and the bed
+    seg = bed(b)
+    xs = np.array([p[0] for _, p, _ in seg] + [seg[-1][2][0]])
+    ys = np.array([p[1] for _, p, _ in seg] + [seg[-1][2][1]])
+    fill_area = b.road * (xs[-1] - xs[0]) - np.trapezoid(ys, xs)
+    masonry = sum(_area(s.polygons[k]) for k in s.blocks)
+    assert s.dead[:, 1].sum() == pytest.approx(-(20.0 * masonry + 18.0 * fill_area) * 2.0, rel=1e-9)
+    # no passive restraint on the chords the backing covers
+    assert len(restraints(b)) < len(restraints(bridge()))
+    with pytest.raises(InputError, match="backing: 'height'"):
+        bridge(backing={"height": 5.0})

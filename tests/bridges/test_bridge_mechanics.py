@@ -17,7 +17,7 @@ from lamodel.search.unstable import dead_load_mechanism
 LP_ONLY = SolveOptions(starts=0, progress=False)
 BASE = {"name": "b", "units": {"length": "m", "force": "kN"}, "span": 6.0, "rise": 1.5, "width": 1.0,
         "ring": {"thickness": 0.3, "voussoirs": 16, "unit_weight": 20.0, "mu": 0.6},
-        "fill": {"depth": 0.4, "unit_weight": 18.0, "phi": 35.0, "passive": 0.33},
+        "fill": {"depth": 0.4, "unit_weight": 18.0, "phi": 35.0, "passive": 0.33}, "backing": {"height": 0.0},
         "load": {"force": 50.0, "patch": 0.2, "positions": [-1.5]}}
 
 
@@ -81,8 +81,13 @@ def test_deeper_fill_and_a_wider_spread_raise_the_adequacy_factor():
     assert alpha(bridge(fill={"spread": 45.0})) > base > alpha(bridge(fill={"spread": 15.0}))
 
 
+def test_backing_raises_the_adequacy_factor():
+    base = alpha(bridge())
+    assert alpha(bridge(backing={"height": 0.6})) > base
+
+
 def test_a_mirrored_load_gives_the_same_adequacy_factor():
-    b = bridge(load={"positions": [-1.5, 1.5], "axles": [0, 0.8]})
+    b = bridge(load={"positions": [-1.5, 1.5], "axles": [0, 0.8]}, backing={"height": 0.6})
     table = adequacy_study(b, LP_ONLY)
     mirrored = adequacy_study(b.mirrored(), LP_ONLY)
     assert table["certified"].all() and mirrored["certified"].all()
