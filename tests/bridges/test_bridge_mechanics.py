@@ -96,3 +96,22 @@ def test_a_mirrored_load_gives_the_same_adequacy_factor():
     assert list(mirrored["adequacy"]) == pytest.approx(list(table["adequacy"]), rel=1e-6)
     assert table["adequacy"].iloc[0] != pytest.approx(table["adequacy"].iloc[1], rel=1e-3)  # not symmetric
     assert table["collapse_load"].iloc[0] == pytest.approx(50.0 * table["adequacy"].iloc[0])
+
+
+def test_the_words_and_the_picture_name_joints_not_restraints(tmp_path):
+    from lamodel.output.kinematics import contact_modes
+    from lamodel.output.plot import plot_mechanism
+    from lamodel.output.words import describe, joint_marks
+    o = outcome(bridge())
+    s, u = o.structure, o.best.u.reshape(-1, 3)
+    modes = contact_modes(s, u)
+    restraint_ids = set(s.contacts[s.n_contacts - s.restraints:])
+    assert any("crushing" in modes[k] for k in range(s.n_contacts - s.restraints, s.n_contacts))  # at capacity
+    marks = joint_marks(s, u, modes)
+    assert marks and not {m.contact for m in marks} & restraint_ids
+    hinges = [m for m in marks if m.kind == "hinge"]
+    assert len(hinges) == 4                                      # the four-hinge mechanism
+    lines = describe(s, u, modes, o.best.alpha)
+    assert any(line.startswith("Restraints: ") and "at their capacity" in line for line in lines)
+    plot_mechanism(s, u, modes, path=tmp_path / "m.png")
+    assert (tmp_path / "m.png").stat().st_size > 0
