@@ -187,3 +187,22 @@ def test_backing_blocks_carry_the_fill_above_them():
     assert len(restraints(b)) < len(restraints(bridge()))
     with pytest.raises(InputError, match="backing: 'height'"):
         bridge(backing={"height": 5.0})
+
+
+def test_a_solved_bridge_is_rebuilt_from_its_tables_by_the_oracle(tmp_path):
+    """The fill's forces (blocks.csv) and the passive restraints (contacts.csv, with their
+    capacity as fc and thickness) are all an external checker needs."""
+    import pandas as pd
+    from oracle import check_folder
+    spec = json.loads(json.dumps(BASE))
+    spec["load"]["positions"] = [-1.5]
+    (tmp_path / "b.json").write_text(json.dumps(spec))
+    assert _cli("bridge", "b.json", "built.json", cwd=tmp_path).returncode == 0
+    run = _cli("solve", "built.json", "--starts", "0", "--out", "out", "--quiet", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    alpha = check_folder(tmp_path / "out")
+    contacts = pd.read_csv(tmp_path / "out" / "contacts.csv")
+    passive = contacts[contacts["mu"] == 0]
+    assert len(passive) == len(restraints(bridge())) and np.isfinite(passive["fc"]).all()
+    assert (passive["N"] >= -2 * passive["d"] * passive["thickness"] * passive["fc"] * (1 + 1e-7)).all()
+    assert alpha > 0
