@@ -115,3 +115,13 @@ def test_the_words_and_the_picture_name_joints_not_restraints(tmp_path):
     assert any(line.startswith("Restraints: ") and "at their capacity" in line for line in lines)
     plot_mechanism(s, u, modes, path=tmp_path / "m.png")
     assert (tmp_path / "m.png").stat().st_size > 0
+
+
+def test_rings_are_separate_rows_of_voussoirs_joined_by_ring_interfaces():
+    one = bridge(ring={"voussoirs": 12}, load={"positions": [-1.5]})
+    two = bridge(ring={"voussoirs": 12, "rings": 2}, load={"positions": [-1.5]})
+    s = structure_of(two)
+    ring_interfaces = [k for k in range(s.n_contacts) if {s.block_a[k][:2], s.block_b[k][:2]} == {"r1", "r2"}]
+    assert len(ring_interfaces) == 12 and len(s.blocks) == 24
+    # the rings can separate and slide on each other: more ways to fail, never a higher alpha
+    assert alpha(two) <= alpha(one) * (1 + 1e-9)
