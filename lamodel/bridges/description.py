@@ -12,7 +12,8 @@ checked: every bad value is one line naming its field::
 Lengths in the file's length unit, x = 0 at mid-span, y = 0 at the springings; the arch is
 segmental (circular; ``rise = span / 2`` is semicircular). ``width`` is the bridge's width
 out of the plane: every force is for the whole width (unit weights are per volume). The
-abutments are rigid supports under each springing (``height`` deep, ``width`` wide); the
+abutments are rigid supports under each springing (``height`` deep, ``width`` wide), or
+with ``"kind": "block"`` masonry blocks on a rigid ground, free to slide and overturn; the
 backing is masonry blocks over the haunches up to ``height`` above the springings.
 ``load`` is an axle group (``force`` per axle, line loads across the width, each on a patch
 ``patch`` long on the road surface; ``axles``: offsets of the axles from the lead one) at
@@ -31,7 +32,9 @@ from ..io.jsonfields import json_object, load_spec, number, units
 TOP_FIELDS = ("name", "description", "units", "span", "rise", "width", "ring", "abutments", "backing", "fill", "load")
 BACKING_FIELDS = ("height",)
 RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu")
-ABUTMENT_FIELDS = ("height", "width")
+ABUTMENT_FIELDS = ("height", "width", "kind")
+#: Abutments: rigid supports, or masonry blocks free to slide and turn on a rigid ground.
+ABUTMENT_KINDS = ("rigid", "block")
 FILL_FIELDS = ("depth", "unit_weight", "phi", "lateral", "passive", "spread")
 LOAD_FIELDS = ("force", "axles", "patch", "positions")
 #: Horizontal earth pressure on the extrados as dead load: at rest (K0 = 1 - sin phi,
@@ -54,6 +57,7 @@ class Bridge:
     mu: float = 0.6                  # friction of the ring's joints
     abutment_height: float = 1.0
     abutment_width: float = 1.0
+    abutment_kind: str = "rigid"
     backing: float = 0.0             # level of the backing's top above the springings (0: none)
     fill_depth: float = 0.0          # over the crown's extrados
     fill_weight: float = 18.0        # unit weight of the fill
@@ -137,6 +141,10 @@ def read_bridge(source) -> Bridge:
     at = f"{where}: abutments"
     b.abutment_height = _positive(abut, "height", at, b.thickness * 2)
     b.abutment_width = _positive(abut, "width", at, b.thickness * 2)
+    b.abutment_kind = abut.get("kind", "rigid")
+    if b.abutment_kind not in ABUTMENT_KINDS:
+        raise InputError(f"{at}: 'kind' is {json.dumps(b.abutment_kind)[:30]}; expected one of "
+                         f"{', '.join(ABUTMENT_KINDS)}")
     back = json_object(spec.get("backing", {}), f"{where}: backing", "'backing'", BACKING_FIELDS)
     b.backing = _positive(back, "height", f"{where}: backing", 0.0, strict=False)
     if b.backing >= b.rise + b.thickness:

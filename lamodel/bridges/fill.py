@@ -27,6 +27,7 @@ import numpy as np
 from ..search.tuning import BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES
 from .description import Bridge, lateral_coefficient, passive_coefficient
 from .backing import bed
+from .ring import restraint_support
 
 
 def _linear_centroid(lo: float, hi: float, z_lo: float, z_hi: float) -> float:
@@ -86,7 +87,7 @@ def restraints(bridge: Bridge) -> list:
             continue
         side = "left" if h[1] > 0 else "right"
         mid = ((p + q) / 2).tolist()
-        out.append({"support": f"abutment_{side}", "block": block, "at": mid,
+        out.append({"support": restraint_support(bridge, side), "block": block, "at": mid,
                     "direction": [1.0 if side == "left" else -1.0, 0.0], "half_length": h[2] / 2,
                     "capacity": abs(h[1]), "thickness": bridge.width})
     return out

@@ -22,6 +22,9 @@ def draw_bridge(ax, bridge: Bridge, lead: float | None = None, passive: bool = T
     ext = extrados(bridge)
     abut = {b["id"]: np.array(b["vertices"]) for b in abutments(bridge)}
     left, right = abut["abutment_left"], abut["abutment_right"]
+    ground = abut.pop("ground", None)   # under abutments that are blocks
+    if ground is not None:
+        ax.add_patch(Polygon(ground, closed=True, facecolor="#7f7f7f", edgecolor="#404040", hatch="xx", lw=0.6))
     fill = np.vstack([[[left[:, 0].min(), left[:, 1].max()]], ext, [[right[:, 0].max(), right[:, 1].max()]],
                       [[right[:, 0].max(), bridge.road], [left[:, 0].min(), bridge.road]]])
     ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", label="fill"))
@@ -29,8 +32,10 @@ def draw_bridge(ax, bridge: Bridge, lead: float | None = None, passive: bool = T
         ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#d9a066", edgecolor="#5b3a1a", lw=0.6))
     for b in backing_blocks(bridge):
         ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#c9a27a", edgecolor="#5b3a1a", lw=0.6))
+    rigid = bridge.abutment_kind == "rigid"   # a support hatched; a block as masonry
     for v in abut.values():
-        ax.add_patch(Polygon(v, closed=True, facecolor="#bfbfbf", edgecolor="#404040", hatch="//", lw=0.6))
+        ax.add_patch(Polygon(v, closed=True, facecolor="#bfbfbf" if rigid else "#c9a27a", edgecolor="#404040",
+                             hatch="//" if rigid else None, lw=0.6))
     ax.plot(fill[-2:, 0], fill[-2:, 1], color="black", lw=1.5)
     if passive:
         for r in restraints(bridge):

@@ -59,9 +59,10 @@ def extrados_owner(bridge: Bridge, i: int) -> str:
 
 
 def abutments(bridge: Bridge) -> list:
-    """The two rigid abutments (supports): under each springing joint, ``abutment_height``
-    below the springing and ``abutment_width`` beyond its outer end, topped level with the
-    springing's extrados end."""
+    """The two abutments under each springing joint, ``abutment_height`` below the
+    springing and ``abutment_width`` beyond its outer end, topped level with the
+    springing's extrados end: rigid supports, or (kind ``block``) blocks on a rigid
+    ``ground``."""
     angles = joint_angles(bridge)
     inner = ring_point(bridge, bridge.radius, angles[[0, -1]])
     outer = ring_point(bridge, bridge.radius + bridge.thickness, angles[[0, -1]])
@@ -71,5 +72,15 @@ def abutments(bridge: Bridge) -> list:
         far = (max(abs(a[0]), abs(b[0])) + bridge.abutment_width) * sign
         bottom = -bridge.abutment_height
         corners = [a.tolist(), [a[0], bottom], [far, bottom], [far, b[1]], b.tolist()]
-        out.append({"id": f"abutment_{side}", "support": True, "vertices": corners})
+        out.append({"id": f"abutment_{side}", "support": bridge.abutment_kind == "rigid", "vertices": corners})
+    if bridge.abutment_kind == "block":
+        xs = [x for b in out for x, _ in b["vertices"]]
+        low, depth = -bridge.abutment_height, bridge.abutment_height / 2
+        out.append({"id": "ground", "support": True,
+                    "vertices": [[min(xs), low - depth], [max(xs), low - depth], [max(xs), low], [min(xs), low]]})
     return out
+
+
+def restraint_support(bridge: Bridge, side: str) -> str:
+    """The support the fill's restraints on one side push from (the ground under block abutments)."""
+    return f"abutment_{side}" if bridge.abutment_kind == "rigid" else "ground"

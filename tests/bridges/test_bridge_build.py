@@ -27,7 +27,7 @@ def bridge(**changes):
     spec = json.loads(json.dumps(BASE))
     for key, value in changes.items():
         if isinstance(value, dict):
-            spec[key].update(value)
+            spec.setdefault(key, {}).update(value)
         else:
             spec[key] = value
     return read_bridge(spec)

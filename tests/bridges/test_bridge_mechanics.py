@@ -24,7 +24,7 @@ BASE = {"name": "b", "units": {"length": "m", "force": "kN"}, "span": 6.0, "rise
 def bridge(**changes):
     spec = json.loads(json.dumps(BASE))
     for key, value in changes.items():
-        spec[key].update(value) if isinstance(value, dict) else spec.__setitem__(key, value)
+        spec.setdefault(key, {}).update(value) if isinstance(value, dict) else spec.__setitem__(key, value)
     return read_bridge(spec)
 
 
@@ -125,3 +125,11 @@ def test_rings_are_separate_rows_of_voussoirs_joined_by_ring_interfaces():
     assert len(ring_interfaces) == 12 and len(s.blocks) == 24
     # the rings can separate and slide on each other: more ways to fail, never a higher alpha
     assert alpha(two) <= alpha(one) * (1 + 1e-9)
+
+
+def test_abutments_as_blocks_can_slide_and_overturn():
+    rigid = alpha(bridge())
+    narrow = alpha(bridge(abutments={"kind": "block", "width": 0.5, "height": 1.0}))
+    wide = alpha(bridge(abutments={"kind": "block", "width": 2.0, "height": 1.0}))
+    assert narrow < wide <= rigid * (1 + 1e-9)
+    assert structure_of(bridge(abutments={"kind": "block"})).supports == ["ground"]
