@@ -10,7 +10,8 @@ checked: every bad value is one line naming its field::
      "load": {"force": 100, "axles": [0], "patch": 0.3, "positions": [-2, 0, 2]}}
 
 Lengths in the file's length unit, x = 0 at mid-span, y = 0 at the springings; the arch is
-segmental (circular; ``rise = span / 2`` is semicircular). ``width`` is the bridge's width
+segmental (circular; ``rise = span / 2`` is semicircular), or with ``"shape"`` elliptical or
+pointed. ``width`` is the bridge's width
 out of the plane: every force is for the whole width (unit weights are per volume). The
 abutments are rigid supports under each springing (``height`` deep, ``width`` wide), or
 with ``"kind": "block"`` masonry blocks on a rigid ground, free to slide and overturn; the
@@ -29,7 +30,7 @@ from dataclasses import dataclass, field
 from ..errors import InputError
 from ..io.jsonfields import json_object, load_spec, number, units
 
-TOP_FIELDS = ("name", "description", "units", "span", "rise", "width", "ring", "abutments", "backing", "fill", "load")
+TOP_FIELDS = ("name", "description", "units", "shape", "span", "rise", "width", "ring", "abutments", "backing", "fill", "load")
 BACKING_FIELDS = ("height",)
 RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu")
 ABUTMENT_FIELDS = ("height", "width", "kind")
@@ -37,6 +38,9 @@ ABUTMENT_FIELDS = ("height", "width", "kind")
 ABUTMENT_KINDS = ("rigid", "block")
 FILL_FIELDS = ("depth", "unit_weight", "phi", "lateral", "passive", "spread")
 LOAD_FIELDS = ("force", "axles", "patch", "positions")
+#: The arch's shape: circular (semicircular when rise = span / 2), a semi-ellipse, or two
+#: circular arcs meeting at the crown (rise > span / 2).
+SHAPES = ("segmental", "elliptical", "pointed")
 #: Horizontal earth pressure on the extrados as dead load: at rest (K0 = 1 - sin phi,
 #: Jaky), active (Rankine's Ka) or none.
 LATERAL = ("at_rest", "active", "none")
@@ -51,6 +55,7 @@ class Bridge:
     rise: float
     width: float
     thickness: float                 # the ring's (all rings together)
+    shape: str = "segmental"
     rings: int = 1
     voussoirs: int = 24              # per ring
     masonry_weight: float = 20.0     # unit weight of the ring (force / length^3)
@@ -74,8 +79,18 @@ class Bridge:
 
     @property
     def radius(self) -> float:
-        """The intrados radius of the segmental arch through the springings and the crown."""
+        """The intrados radius of a segmental arch through the springings and the crown."""
         return (self.span ** 2 / 4 + self.rise ** 2) / (2 * self.rise)
+
+    @property
+    def least_radius(self) -> float:
+        """The intrados' least radius of curvature (the ring must be thinner)."""
+        if self.shape == "elliptical":
+            a, b = self.span / 2, self.rise
+            return min(a * a / b, b * b / a)
+        if self.shape == "pointed":
+            return (self.span ** 2 / 4 + self.rise ** 2) / self.span
+        return self.radius
 
     @property
     def road(self) -> float:
@@ -120,23 +135,31 @@ def read_bridge(source) -> Bridge:
     json_object(spec, where, "the bridge", TOP_FIELDS)
     span = _positive(spec, "span", where)
     rise = _positive(spec, "rise", where)
-    if rise > span / 2 * (1 + 1e-12):
+    shape = spec.get("shape", "segmental")
+    if shape not in SHAPES:
+        raise InputError(f"{where}: 'shape' is {json.dumps(shape)[:30]}; expected one of {', '.join(SHAPES)}")
+    if shape == "segmental" and rise > span / 2 * (1 + 1e-12):
         raise InputError(f"{where}: 'rise' is {rise:g}; expected at most span / 2 = {span / 2:g} (a segmental or "
-                         "semicircular arch)")
+                         "semicircular arch; \"shape\": \"pointed\" for a higher one)")
+    if shape == "pointed" and rise <= span / 2:
+        raise InputError(f"{where}: 'rise' is {rise:g}; expected more than span / 2 = {span / 2:g} for a pointed arch")
     width = _positive(spec, "width", where, 1.0)
     if "ring" not in spec:
         raise InputError(f"{where} has no 'ring'; expected \"ring\": {{\"thickness\": ...}}")
     ring = json_object(spec["ring"], f"{where}: ring", "'ring'", RING_FIELDS)
     at = f"{where}: ring"
-    b = Bridge(name=str(spec.get("name", "bridge")), span=span, rise=rise, width=width,
+    b = Bridge(name=str(spec.get("name", "bridge")), span=span, rise=rise, width=width, shape=shape,
                thickness=_positive(ring, "thickness", at),
                rings=_whole(ring, "rings", at, 1, 1), voussoirs=_whole(ring, "voussoirs", at, 24, 3),
                masonry_weight=_positive(ring, "unit_weight", at, Bridge.masonry_weight),
                mu=_positive(ring, "mu", at, Bridge.mu, strict=False),
                units=units(spec, where), description=str(spec.get("description", "")))
-    if b.thickness >= b.radius:
-        raise InputError(f"{at}: 'thickness' is {b.thickness:g}; expected less than the intrados radius "
-                         f"{b.radius:.4g}")
+    if b.shape == "pointed" and b.voussoirs % 2:
+        raise InputError(f"{at}: 'voussoirs' is {b.voussoirs}; expected an even number for a pointed arch (a joint "
+                         "at the apex)")
+    if b.thickness >= b.least_radius:
+        raise InputError(f"{at}: 'thickness' is {b.thickness:g}; expected less than the intrados' least radius of "
+                         f"curvature {b.least_radius:.4g}")
     abut = json_object(spec.get("abutments", {}), f"{where}: abutments", "'abutments'", ABUTMENT_FIELDS)
     at = f"{where}: abutments"
     b.abutment_height = _positive(abut, "height", at, b.thickness * 2)

@@ -1,4 +1,5 @@
-"""The arch ring and its abutments as polygons: voussoirs between radial joints, rings
+"""The arch ring and its abutments as polygons: voussoirs between joints across the ring
+(segmental, elliptical or pointed, :func:`intrados`), rings
 one above the other sharing their chords (so each ring interface is a contact), and a
 rigid abutment under each springing.
 
@@ -12,21 +13,43 @@ import numpy as np
 from .description import Bridge
 
 
-def joint_angles(bridge: Bridge) -> np.ndarray:
-    """The angles (about the intrados centre) of the radial joints, left springing first."""
-    half = np.arcsin(min(1.0, bridge.span / (2 * bridge.radius)))
-    return np.linspace(np.pi / 2 + half, np.pi / 2 - half, bridge.voussoirs + 1)
+def _circle(centre, radius, angles):
+    """Points of a circle at the given angles, and the outward normals there."""
+    a = np.asarray(angles, float)
+    normal = np.stack([np.cos(a), np.sin(a)], axis=-1)
+    return np.asarray(centre, float) + radius * normal, normal
 
 
-def centre(bridge: Bridge) -> np.ndarray:
-    """The centre of the intrados circle."""
-    return np.array([0.0, bridge.rise - bridge.radius])
+def intrados(bridge: Bridge):
+    """The intrados at the joints, left springing first: points (n + 1, 2) and the joints'
+    unit directions (n + 1, 2), outwards. Segmental: radial joints at equal angles;
+    elliptical: joints normal to the intrados at equal parametric angles; pointed: two
+    circular arcs, radial joints at equal angles on each half, a vertical joint at the apex."""
+    n = bridge.voussoirs
+    half_span = bridge.span / 2
+    if bridge.shape == "elliptical":
+        t = np.linspace(np.pi, 0.0, n + 1)
+        a, b = half_span, bridge.rise
+        points = np.stack([a * np.cos(t), b * np.sin(t)], axis=-1)
+        normal = np.stack([np.cos(t) / a, np.sin(t) / b], axis=-1)
+        return points, normal / np.hypot(normal[:, :1], normal[:, 1:])
+    if bridge.shape == "pointed":
+        radius = (half_span ** 2 + bridge.rise ** 2) / bridge.span   # each arc through a springing and the apex
+        centre = radius - half_span                                     # the left arc's centre is (centre, 0)
+        apex = np.arctan2(bridge.rise, -centre)
+        left, nl = _circle((centre, 0.0), radius, np.linspace(np.pi, apex, n // 2 + 1))
+        right, nr = _circle((-centre, 0.0), radius, np.linspace(np.pi - apex, 0.0, n // 2 + 1))
+        nl[-1] = (0.0, 1.0)
+        return np.vstack([left, right[1:]]), np.vstack([nl, nr[1:]])
+    half = np.arcsin(min(1.0, half_span / bridge.radius))
+    return _circle((0.0, bridge.rise - bridge.radius), bridge.radius,
+                   np.linspace(np.pi / 2 + half, np.pi / 2 - half, n + 1))
 
 
-def ring_point(bridge: Bridge, radius: float, angle) -> np.ndarray:
-    """Points at ``radius`` from the centre, at the given angles: shape (..., 2)."""
-    a = np.asarray(angle, float)
-    return centre(bridge) + radius * np.stack([np.cos(a), np.sin(a)], axis=-1)
+def joint_points(bridge: Bridge, offset: float) -> np.ndarray:
+    """The points of the joints at ``offset`` outwards from the intrados (n + 1, 2)."""
+    points, normal = intrados(bridge)
+    return points + offset * normal
 
 
 def voussoir_id(bridge: Bridge, ring: int, i: int) -> str:
@@ -36,11 +59,10 @@ def voussoir_id(bridge: Bridge, ring: int, i: int) -> str:
 
 def voussoirs(bridge: Bridge) -> list:
     """``[{"id", "vertices"}]`` of every voussoir, ring after ring."""
-    angles = joint_angles(bridge)
     out = []
     for k in range(bridge.rings):
-        inner = ring_point(bridge, bridge.radius + k * bridge.thickness / bridge.rings, angles)
-        outer = ring_point(bridge, bridge.radius + (k + 1) * bridge.thickness / bridge.rings, angles)
+        inner = joint_points(bridge, k * bridge.thickness / bridge.rings)
+        outer = joint_points(bridge, (k + 1) * bridge.thickness / bridge.rings)
         for i in range(bridge.voussoirs):
             out.append({"id": voussoir_id(bridge, k, i),
                         "vertices": [inner[i].tolist(), inner[i + 1].tolist(), outer[i + 1].tolist(),
@@ -50,7 +72,7 @@ def voussoirs(bridge: Bridge) -> list:
 
 def extrados(bridge: Bridge) -> np.ndarray:
     """The extrados polyline (n + 1 points, left to right): the outer ring's chords."""
-    return ring_point(bridge, bridge.radius + bridge.thickness, joint_angles(bridge))
+    return joint_points(bridge, bridge.thickness)
 
 
 def extrados_owner(bridge: Bridge, i: int) -> str:
@@ -63,9 +85,8 @@ def abutments(bridge: Bridge) -> list:
     springing and ``abutment_width`` beyond its outer end, topped level with the
     springing's extrados end: rigid supports, or (kind ``block``) blocks on a rigid
     ``ground``."""
-    angles = joint_angles(bridge)
-    inner = ring_point(bridge, bridge.radius, angles[[0, -1]])
-    outer = ring_point(bridge, bridge.radius + bridge.thickness, angles[[0, -1]])
+    inner = joint_points(bridge, 0.0)[[0, -1]]
+    outer = joint_points(bridge, bridge.thickness)[[0, -1]]
     out = []
     for side, a, b in (("left", inner[0], outer[0]), ("right", inner[1], outer[1])):
         sign = -1.0 if side == "left" else 1.0

@@ -206,3 +206,27 @@ def test_a_solved_bridge_is_rebuilt_from_its_tables_by_the_oracle(tmp_path):
     assert len(passive) == len(restraints(bridge())) and np.isfinite(passive["fc"]).all()
     assert (passive["N"] >= -2 * passive["d"] * passive["thickness"] * passive["fc"] * (1 + 1e-7)).all()
     assert alpha > 0
+
+
+def test_an_elliptical_arch_as_high_as_half_its_span_is_the_semicircle():
+    from lamodel.bridges.ring import voussoirs
+    circle = voussoirs(bridge(rise=3.0))
+    ellipse = voussoirs(bridge(rise=3.0, shape="elliptical"))
+    assert np.allclose([v["vertices"] for v in circle], [v["vertices"] for v in ellipse], atol=1e-12)
+
+
+def test_a_pointed_arch_has_a_vertical_joint_at_its_apex():
+    from lamodel.bridges.ring import intrados
+    b = bridge(rise=4.0, shape="pointed")
+    points, normal = intrados(b)
+    mid = len(points) // 2
+    assert np.allclose(points[mid], [0.0, 4.0]) and np.allclose(normal[mid], [0.0, 1.0])
+    assert np.allclose(points[:, 0], -points[::-1, 0]) and np.allclose(points[:, 1], points[::-1, 1])
+    s = structure_from_spec(bridge_spec(b), "pointed")
+    assert len(s.blocks) == 16
+    with pytest.raises(InputError, match="even number"):
+        bridge(rise=4.0, shape="pointed", ring={"voussoirs": 15})
+    with pytest.raises(InputError, match="'rise'.*pointed"):
+        bridge(rise=2.0, shape="pointed")
+    with pytest.raises(InputError, match="'shape'"):
+        bridge(shape="gothic")

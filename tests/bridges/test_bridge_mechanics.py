@@ -133,3 +133,10 @@ def test_abutments_as_blocks_can_slide_and_overturn():
     wide = alpha(bridge(abutments={"kind": "block", "width": 2.0, "height": 1.0}))
     assert narrow < wide <= rigid * (1 + 1e-9)
     assert structure_of(bridge(abutments={"kind": "block"})).supports == ["ground"]
+
+
+def test_a_pointed_arch_loaded_at_mirrored_points_gives_the_same_alpha():
+    b = bridge(rise=4.0, shape="pointed", ring={"thickness": 0.6}, load={"positions": [-1.5, 1.5]})
+    table = adequacy_study(b, LP_ONLY)
+    assert table["certified"].all()
+    assert table["adequacy"].iloc[0] == pytest.approx(table["adequacy"].iloc[1], rel=1e-6)
