@@ -37,9 +37,10 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
         if live:   # a position whose axles all stand beyond the springings loads no block
             cases[x] = live
             loads += live
+    skew = f", skew {bridge.skew:g} deg (not modelled)" if bridge.skew else ""
     text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: span "
             f"{bridge.span:g}, rise {bridge.rise:g}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
-            f"{bridge.voussoirs} voussoirs), width {bridge.width:g}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
+            f"{bridge.voussoirs} voussoirs), width {bridge.width:g}{skew}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
             f"unit weight {bridge.fill_weight:g}, phi {bridge.phi:g} deg, lateral {bridge.lateral} "
             f"(K = {lateral_coefficient(bridge):.4g}), passive {bridge.passive:g} K_p "
             f"(K_p = {passive_coefficient(bridge.phi):.4g}){'' if passive else ' left out'}, spread "

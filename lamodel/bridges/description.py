@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from ..errors import InputError
 from ..io.jsonfields import json_object, load_spec, number, units
 
-TOP_FIELDS = ("name", "description", "units", "shape", "span", "rise", "width", "ring", "abutments", "backing", "fill", "load")
+TOP_FIELDS = ("name", "description", "units", "shape", "span", "rise", "width", "skew", "ring", "abutments", "backing", "fill", "load")
 BACKING_FIELDS = ("height",)
 RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu")
 ABUTMENT_FIELDS = ("height", "width", "kind")
@@ -56,6 +56,7 @@ class Bridge:
     width: float
     thickness: float                 # the ring's (all rings together)
     shape: str = "segmental"
+    skew: float = 0.0                # degrees: recorded, not modelled (a planar model)
     rings: int = 1
     voussoirs: int = 24              # per ring
     masonry_weight: float = 20.0     # unit weight of the ring (force / length^3)
@@ -144,11 +145,14 @@ def read_bridge(source) -> Bridge:
     if shape == "pointed" and rise <= span / 2:
         raise InputError(f"{where}: 'rise' is {rise:g}; expected more than span / 2 = {span / 2:g} for a pointed arch")
     width = _positive(spec, "width", where, 1.0)
+    skew = _positive(spec, "skew", where, 0.0, strict=False)
+    if skew >= 90:
+        raise InputError(f"{where}: 'skew' is {skew:g}; expected an angle in degrees, below 90")
     if "ring" not in spec:
         raise InputError(f"{where} has no 'ring'; expected \"ring\": {{\"thickness\": ...}}")
     ring = json_object(spec["ring"], f"{where}: ring", "'ring'", RING_FIELDS)
     at = f"{where}: ring"
-    b = Bridge(name=str(spec.get("name", "bridge")), span=span, rise=rise, width=width, shape=shape,
+    b = Bridge(name=str(spec.get("name", "bridge")), span=span, rise=rise, width=width, shape=shape, skew=skew,
                thickness=_positive(ring, "thickness", at),
                rings=_whole(ring, "rings", at, 1, 1), voussoirs=_whole(ring, "voussoirs", at, 24, 3),
                masonry_weight=_positive(ring, "unit_weight", at, Bridge.masonry_weight),

@@ -123,7 +123,8 @@ def test_restraints_survive_writing_the_structure_back():
     ({"span": -1}, "'span'"), ({"rise": 4.0}, "'rise'"), ({"ring": {"voussoirs": 2}}, "'voussoirs'"),
     ({"ring": {"thickness": "thick"}}, "'thickness'"), ({"fill": {"phi": 95}}, "'phi'"),
     ({"fill": {"lateral": "sideways"}}, "'lateral'"), ({"fill": {"spread": 90}}, "'spread'"),
-    ({"load": {"positions": []}}, "'positions'"), ({"width": 0}, "'width'")])
+    ({"load": {"positions": []}}, "'positions'"), ({"width": 0}, "'width'"), ({"skew": 95}, "'skew'"),
+    ({"abutments": {"kind": "floating"}}, "'kind'")])
 def test_bad_values_name_their_field(change, field):
     with pytest.raises(InputError, match=field):
         bridge(**change)
@@ -157,6 +158,12 @@ def test_the_command_builds_a_structure_and_a_picture_and_refuses_bad_input(tmp_
     run = _cli("bridge", "bad.json", cwd=tmp_path)
     assert run.returncode == 2
     assert "'rise'" in run.stderr and len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
+
+
+def test_skew_is_recorded_not_modelled():
+    skewed = bridge_spec(bridge(skew=20.0))
+    assert "skew 20 deg (not modelled)" in skewed["description"]
+    assert skewed["blocks"] == bridge_spec(bridge())["blocks"]
 
 
 def test_the_example_builds():
