@@ -1,4 +1,4 @@
-"""The command line: ``lamodel solve | study | compare | build | table1``. It only parses;
+"""The command line: ``lamodel solve | study | compare | build | bridge | table1``. It only parses;
 the library does the work (``solve`` is :func:`lamodel.output.present.analyse`). The
 scripts in ``scripts/`` are shims over :func:`command`. Bad input is one line on stderr,
 exit status 2 (``--debug`` shows the traceback); :data:`lamodel.process.EXIT_HELP`, the
@@ -184,6 +184,47 @@ def _build(args, prog) -> int:
     return EXIT_OK
 
 
+# ------------------------------------------------------------------------------ bridge
+def _bridge_arguments(p):
+    a = p.add_argument
+    a("bridge", metavar="BRIDGE.json", help="bridge description (see lamodel.bridges.description; "
+      "instances/bridge_demo.json)")
+    a("output", metavar="OUT.json", nargs="?", help="the block structure for lamodel solve (default: next to the "
+      "description, <name>_blocks.json); its picture as built beside it (.png)")
+    a("--no-passive", action="store_true", help="leave the fill's passive restraint out")
+    a("--adequacy", metavar="FOLDER", help="also solve every load position: FOLDER/adequacy.csv and adequacy.png")
+    a("--starts", type=whole(0), default=0, metavar="K", help="Ipopt starts per position with --adequacy (default 0)")
+
+
+def _bridge(args, prog) -> int:
+    import warnings
+    from pathlib import Path
+
+    from .bridges import bridge_spec, read_bridge
+    from .bridges.picture import plot_bridge
+    from .io.jsonspec import structure_from_spec, structure_to_json
+    with warnings.catch_warnings():  # unknown fields: one line each
+        warnings.showwarning = lambda message, *_, **__: print(f"{prog}: warning: {message}", file=sys.stderr)
+        bridge = read_bridge(args.bridge)
+        spec = bridge_spec(bridge, passive=not args.no_passive)
+        structure = structure_from_spec(spec, args.bridge)   # checked before it is written
+    out = Path(args.output or Path(args.bridge).with_name(f"{Path(args.bridge).stem}_blocks.json"))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    structure_to_json(spec, out)
+    picture = plot_bridge(bridge, out.with_suffix(".png"), passive=not args.no_passive)
+    _say(f"{out}: {len(structure.blocks)} blocks, {structure.n_contacts} contacts ({structure.restraints} passive "
+         f"restraints), {len(structure.cases)} load positions; picture {picture}")
+    if not args.adequacy:
+        return EXIT_OK
+    from .bridges.adequacy import adequacy_study, write_adequacy
+    from .search.options import SolveOptions
+    table = adequacy_study(bridge, SolveOptions(starts=args.starts), passive=not args.no_passive)
+    files = write_adequacy(bridge, table, args.adequacy)
+    _say(table.to_string(index=False))
+    _say(f"written: {', '.join(files)}")
+    return EXIT_OK if table["certified"].all() else EXIT_NOT_CERTIFIED
+
+
 # ------------------------------------------------------------------------------ table1
 def _table1_arguments(p):
     a = p.add_argument
@@ -210,6 +251,8 @@ COMMANDS = {
     "compare": ("compare two result folders, planar or in space (exit 0 agree, 1 differ, 2 bad input)", _compare_arguments, _compare),
     "build": ("write the .dat instance of a JSON polygon geometry (in 3D: its contacts summary)", _build_arguments,
               _build),
+    "bridge": ("build a masonry arch bridge's blocks, fill and load positions from its description (and its "
+               "adequacy factor against the load position)", _bridge_arguments, _bridge),
     "table1": ("the seed's Table 1 with lamodel's certified alpha", _table1_arguments, _table1),
 }
 

@@ -73,6 +73,9 @@ class Structure(Assembly):
     ft: np.ndarray | None = None         # (nc,) tensile strength (stress)
     cohesion: np.ndarray | None = None   # (nc,) cohesion c0 (stress)
     thickness: np.ndarray | None = None  # (nc,) b, the joint's width out of the plane (length)
+    # the last this many contacts are restraints a file gave (lamodel.io.restraints): one-way
+    # bounded reactions from a support, not found from the polygons
+    restraints: int = 0
 
     def __post_init__(self):
         self._as_text("blocks", "supports", "contacts", "block_a", "block_b")

@@ -39,6 +39,10 @@ its contacts (a contact takes the smaller value of its two bodies); in ``"joints
 ["b1", "b2"], "fc": ...}]``, for the contact of those two bodies. Stresses are in the
 file's force per length squared (kN and m: kPa).
 
+Restraints (:mod:`lamodel.io.restraints`). ``"restraints": [{"support", "block", "at",
+"direction", "half_length", "capacity"}]`` adds one-way reactions of bounded force from a
+support (a bridge's passive fill pressure): contacts given, not found, after the others.
+
 When the file gives live point loads or a rolling load but no ``"live_load"``, the blocks'
 own live load is zero: alpha multiplies only the loads written.
 
@@ -73,6 +77,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .restraints import restraint_contacts, restraints_of
 from .jsonfields import (STRENGTH_FIELDS, blocks_of, body_head, body_support_mu, check_supports, json_object, load_spec,
                          number, strengths, units, validated, warn_unknown, writes_live)
 from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
@@ -83,7 +88,7 @@ from ..structure import JOINT_DEFAULTS, Structure
 DEFAULT_TOLERANCE = 1e-9
 
 TOP_FIELDS = ("name", "description", "dimension", "mu", "unit_weight", "live_load", "tolerance", "blocks", "loads", "units",
-              "rolling_load", "joints", *STRENGTH_FIELDS)
+              "rolling_load", "joints", "restraints", *STRENGTH_FIELDS)
 BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description", *STRENGTH_FIELDS)
 JOINT_FIELDS = ("between", *STRENGTH_FIELDS)
 LOAD_FIELDS = ("block", "at", "force", "kind", "case")
@@ -194,6 +199,19 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
         live[:] = 0.0  # alpha multiplies only the live loads the file writes
 
     mus = np.asarray(mus)
+    joints = _joint_strengths(spec, where, ids, body_strengths, ia, ib)
+    mu = np.minimum(mus[ia], mus[ib])
+    centre, normal, half = contacts["centre"], contacts["normal"], contacts["d"]
+    extra = restraint_contacts(spec, where, ids, is_support)
+    if extra is not None:  # restraints after the contacts found from the polygons (lamodel.io.restraints)
+        m = extra["a"].size
+        for key, default in JOINT_DEFAULTS.items():
+            tail = extra[key] if key in extra else np.full(m, default)
+            joints[key] = np.concatenate([joints.get(key, np.full(ia.size, default)), tail])
+        ia, ib = np.concatenate([ia, extra["a"]]), np.concatenate([ib, extra["b"]])
+        mu = np.concatenate([mu, np.zeros(m)])  # no tangential force, no fictitious cohesion
+        centre, normal = np.vstack([centre, extra["centre"]]), np.vstack([normal, extra["normal"]])
+        half = np.concatenate([half, extra["d"]])
     structure = Structure(
         name=name,
         blocks=[ids[j] for j in moving],
@@ -204,13 +222,14 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
         contacts=[f"c{k + 1}" for k in range(ia.size)],
         block_a=[ids[j] for j in ia],
         block_b=[ids[j] for j in ib],
-        centre=contacts["centre"],
-        normal=contacts["normal"],
-        d=contacts["d"],
-        mu=np.minimum(mus[ia], mus[ib]),
+        centre=centre,
+        normal=normal,
+        d=half,
+        mu=mu,
         polygons={b: p for b, p in zip(ids, polygons)},
         dead_m=dead_m, live_m=live_m, units=units(spec, where),
-        **_joint_strengths(spec, where, ids, body_strengths, ia, ib),
+        restraints=0 if extra is None else int(extra["a"].size),
+        **joints,
     )
     _point_loads(spec, where, structure, tol)
     if "rolling_load" in spec:
@@ -360,15 +379,16 @@ def _spec_of_structure(s: Structure) -> dict:
     spec = {"name": s.name}
     if s.units:
         spec["units"] = dict(s.units)
-    uniform = s.n_contacts and np.allclose(s.mu, s.mu[0], rtol=0, atol=1e-15)
+    n = s.n_contacts - s.restraints  # the contacts found from the polygons; then the restraints
+    uniform = n and np.allclose(s.mu[:n], s.mu[0], rtol=0, atol=1e-15)
     body_mu = {}
     if uniform:
         spec["mu"] = float(s.mu[0])
     else:
-        for k in range(s.n_contacts):
+        for k in range(n):
             for x in (s.block_a[k], s.block_b[k]):
                 body_mu[x] = max(body_mu.get(x, 0.0), float(s.mu[k]))
-        for k in range(s.n_contacts):
+        for k in range(n):
             if min(body_mu[s.block_a[k]], body_mu[s.block_b[k]]) != s.mu[k]:
                 raise InputError(f"structure '{s.name}': the friction of contact '{s.contacts[k]}' cannot be written "
                                  "as the smaller 'mu' of its two bodies; expected friction given per body")
@@ -388,13 +408,16 @@ def _spec_of_structure(s: Structure) -> dict:
             body["mu"] = body_mu[b]
         blocks.append(body)
     spec["blocks"] = blocks
-    if s.has_materials:  # the joints' strengths: the file's when uniform, else joint by joint
-        uniform = {key: getattr(s, key)[0] for key in STRENGTH_FIELDS
-                   if np.all(getattr(s, key) == getattr(s, key)[0])}
+    value = {key: getattr(s, key)[:n] for key in STRENGTH_FIELDS}
+    if any(np.any(value[key] != JOINT_DEFAULTS[key]) for key in STRENGTH_FIELDS):
+        # the joints' strengths: the file's when uniform, else joint by joint
+        uniform = {key: v[0] for key, v in value.items() if np.all(v == v[0])}
         spec.update({key: float(v) for key, v in uniform.items() if v != JOINT_DEFAULTS[key]})
         rest = [key for key in STRENGTH_FIELDS if key not in uniform]
         if rest:
             spec["joints"] = [{"between": [s.block_a[k], s.block_b[k]],
-                               **{key: float(getattr(s, key)[k]) for key in rest
-                                  if np.isfinite(getattr(s, key)[k])}} for k in range(s.n_contacts)]
+                               **{key: float(value[key][k]) for key in rest
+                                  if np.isfinite(value[key][k])}} for k in range(n)]
+    if s.restraints:
+        spec["restraints"] = restraints_of(s, n)
     return spec

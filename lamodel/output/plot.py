@@ -118,8 +118,9 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
     # contact markers, drawn on the displaced picture, carried by block a
     ia, _ = s.contact_blocks()
     legend = []
-    sliding = np.array([m in SLIDING for m in modes], dtype=bool)
-    hinging = np.array([m in TURNING for m in modes], dtype=bool)
+    joint = np.arange(s.n_contacts) < s.n_contacts - getattr(s, "restraints", 0)  # restraints: no joints
+    sliding = np.array([m in SLIDING for m in modes], dtype=bool) & joint
+    hinging = np.array([m in TURNING for m in modes], dtype=bool) & joint
     if sliding.any():
         k = np.flatnonzero(sliding)
         ends = [s.centre[k] - s.d[k, None] * s.tangent[k], s.centre[k] + s.d[k, None] * s.tangent[k]]

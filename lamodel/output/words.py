@@ -125,7 +125,8 @@ def joint_marks(structure: Structure, u, modes, N=None) -> list:
     centre = ring_centre(s)
     radial = radial_joints(s, centre) if centre is not None else np.array([], dtype=int)
     marks, number = [], 0
-    for k, mode in enumerate(modes):
+    joints = s.n_contacts - getattr(s, "restraints", 0)   # the restraints (last) are no joints
+    for k, mode in enumerate(modes[:joints]):
         if mode not in ("hinging", "sliding", "sliding+hinging", "crushing", "crushing+sliding"):
             continue
         number += 1
@@ -249,9 +250,15 @@ def describe(structure: Structure, u, modes, alpha=None, N=None) -> list:
     if marks:
         lines.append("Joints (numbered as in the picture):" if numbered_in_picture(marks) else "Joints:")
         lines += [f"  {m.number}. {m.text}" for m in marks]
-    n_open = sum(m == "open" for m in modes)
+    joints = s.n_contacts - getattr(s, "restraints", 0)
+    n_open = sum(m == "open" for m in modes[:joints])
     if n_open:
         lines.append(f"  {n_open} joint{'s' if n_open != 1 else ''} open (separate).")
+    full = [s.block_b[k] for k in range(joints, s.n_contacts) if "crushing" in modes[k]]
+    if joints < s.n_contacts:   # restraints (lamodel.io.restraints): bounded one-way reactions
+        lines.append(f"Restraints: {len(full)} of {s.n_contacts - joints} at their capacity"
+                     + (f" (on {', '.join(full[:12])}{', ...' if len(full) > 12 else ''})" if full else "")
+                     + "; the others carry less or nothing.")
     return lines
 
 

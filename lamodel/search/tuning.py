@@ -356,3 +356,14 @@ SINGLE_BLOCKS, SINGLE_BLOCK_FACETS = 4, 8
 CRUSHING_FACETS = 16
 CRUSHING_FLOOR = 1e-7
 CRUSHING_FAN_RATIO = 16.0
+
+# ===================================================================== bridges
+#: Lead-axle positions of a bridge's load when its file gives none: evenly across the span,
+#: springing to springing (lamodel.bridges.description).
+BRIDGE_POSITIONS = 21
+#: Samples per extrados chord where the dispersed surface load is integrated (midpoint
+#: rule): the forces sum to the axle's to round-off, each chord's share to ~1/this.
+BRIDGE_SAMPLES = 400
+#: A knife-edge load on a ring without fill is spread over this fraction of the span, so
+#: that its pressure stays finite: round-off margin.
+BRIDGE_KNIFE_EDGE = 1e-4

@@ -1,0 +1,47 @@
+"""The adequacy factor of a bridge against the load's position: the certified collapse
+multiplier of the axle group at each lead-axle position (each a load case of the built
+structure), the least governing; as a table and a plot."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from ..io.jsonspec import structure_from_spec
+from ..search.options import SolveOptions
+from ..studies import load_case_study
+from .build import bridge_spec, case_positions
+from .description import Bridge
+
+#: Columns of :func:`adequacy_study`.
+COLUMNS = ("position", "adequacy", "collapse_load", "certified", "status", "governing", "seconds")
+
+
+def structure_of(bridge: Bridge, passive: bool = True):
+    """The solver's Structure of a bridge (its load positions as load cases)."""
+    return structure_from_spec(bridge_spec(bridge, passive), f"bridge '{bridge.name}'")
+
+
+def adequacy_study(bridge: Bridge, options: SolveOptions | None = None, passive: bool = True,
+                   progress=None) -> pd.DataFrame:
+    """One row per position: the adequacy factor (alpha_c of the axle group), the collapse
+    load per axle (alpha_c times the axle's force), whether certified; the least governs."""
+    df, _ = load_case_study(structure_of(bridge, passive), options, progress)
+    where = case_positions(bridge)
+    out = pd.DataFrame({"position": df["case"].map(where), "adequacy": df["alpha_c"],
+                        "collapse_load": df["alpha_c"] * bridge.force, "certified": df["certified"],
+                        "status": df["status"], "governing": df["governing"], "seconds": df["seconds"]})
+    return out[list(COLUMNS)]
+
+
+def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder) -> list:
+    """adequacy.csv and adequacy.png (the factor against the position) in ``folder``."""
+    from ..output.figures import rolling_figure, save_open_figure
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    table.to_csv(folder / "adequacy.csv", index=False)
+    plot = table.rename(columns={"adequacy": "alpha_c"})
+    fig = rolling_figure(plot, f"{bridge.name}: adequacy factor against the load position",
+                         bridge.units.get("length", ""))
+    fig.axes[0].set_ylabel("adequacy factor (collapse multiplier)")
+    return [str(folder / "adequacy.csv"), save_open_figure(fig, folder / "adequacy.png")]

@@ -1,0 +1,61 @@
+"""A bridge description turned into the block structure the solver reads: the JSON
+geometry of :mod:`lamodel.io.jsonspec` (polygons a user can edit), with the fill's forces
+as dead point loads, each load position as a load case of live point loads, and the
+passive restraint as restraints. ``lamodel solve`` on it solves every position; the least
+alpha (the adequacy factor) governs.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..search.tuning import BRIDGE_POSITIONS
+from .description import Bridge, lateral_coefficient, passive_coefficient
+from .fill import dead_loads, live_loads, restraints
+from .backing import backing_blocks
+from .ring import abutments, voussoirs
+
+
+def positions(bridge: Bridge) -> list:
+    """The lead axle's positions: the file's, else evenly from springing to springing."""
+    if bridge.positions is not None:
+        return [float(x) for x in bridge.positions]
+    return [float(f"{x:.12g}") for x in np.linspace(-bridge.span / 2, bridge.span / 2, BRIDGE_POSITIONS)]
+
+
+def case_name(x: float) -> str:
+    """The load case of the lead axle at x (a token: no spaces)."""
+    return f"x={x:.6g}"
+
+
+def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
+    """The JSON geometry of the bridge (module doc); ``passive=False`` leaves the passive
+    restraint out."""
+    loads = dead_loads(bridge)
+    cases = {}
+    for x in positions(bridge):
+        live = live_loads(bridge, x, case_name(x))
+        if live:   # a position whose axles all stand beyond the springings loads no block
+            cases[x] = live
+            loads += live
+    skew = f", skew {bridge.skew:g} deg (not modelled)" if bridge.skew else ""
+    text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: span "
+            f"{bridge.span:g}, rise {bridge.rise:g}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
+            f"{bridge.voussoirs} voussoirs), width {bridge.width:g}{skew}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
+            f"unit weight {bridge.fill_weight:g}, phi {bridge.phi:g} deg, lateral {bridge.lateral} "
+            f"(K = {lateral_coefficient(bridge):.4g}), passive {bridge.passive:g} K_p "
+            f"(K_p = {passive_coefficient(bridge.phi):.4g}){'' if passive else ' left out'}, spread "
+            f"{bridge.spread:g} deg; {len(bridge.axles)} axle(s) of {bridge.force:g}, patch {bridge.patch:g}.")
+    spec = {"name": bridge.name, "description": text, "mu": bridge.mu,
+            "unit_weight": bridge.masonry_weight * bridge.width, "thickness": bridge.width}
+    if bridge.units:
+        spec["units"] = dict(bridge.units)
+    spec["loads"] = loads
+    if passive:
+        spec["restraints"] = restraints(bridge)
+    spec["blocks"] = voussoirs(bridge) + backing_blocks(bridge) + abutments(bridge)
+    return spec
+
+
+def case_positions(bridge: Bridge) -> dict:
+    """Load case name -> lead axle position, for the positions that load the ring."""
+    return {case_name(x): x for x in positions(bridge) if live_loads(bridge, x, case_name(x))}

@@ -1,0 +1,241 @@
+"""A bridge description read, checked and built into blocks: the fill's forces add up to
+what the fill weighs and what the axle carries, the restraints survive a round trip, bad
+input is one line naming the field."""
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import INSTANCES, ROOT
+
+from lamodel.bridges import bridge_spec, read_bridge
+from lamodel.bridges.fill import dead_loads, live_loads, restraints
+from lamodel.bridges.ring import extrados
+from lamodel.errors import InputError
+from lamodel.io.jsonspec import structure_from_spec, structure_to_json
+
+BASE = {"name": "b", "span": 6.0, "rise": 1.5, "width": 2.0,
+        "ring": {"thickness": 0.3, "voussoirs": 16, "unit_weight": 20.0, "mu": 0.6},
+        "fill": {"depth": 0.4, "unit_weight": 18.0, "phi": 35.0, "passive": 0.5}, "backing": {"height": 0.0},
+        "load": {"force": 50.0, "patch": 0.2, "positions": [-1.5, 0.0]}}
+
+
+def bridge(**changes):
+    spec = json.loads(json.dumps(BASE))
+    for key, value in changes.items():
+        if isinstance(value, dict):
+            spec.setdefault(key, {}).update(value)
+        else:
+            spec[key] = value
+    return read_bridge(spec)
+
+
+def test_the_fill_weighs_what_lies_between_the_road_and_the_extrados():
+    b = bridge()
+    p = extrados(b)
+    under = np.trapezoid(p[:, 1], p[:, 0])   # the area under the extrados polyline
+    fill_area = b.road * (p[-1, 0] - p[0, 0]) - under
+    vertical = sum(f["force"][1] for f in dead_loads(b))
+    assert vertical == pytest.approx(-b.fill_weight * b.width * fill_area, rel=1e-12)
+
+
+def test_the_horizontal_pressures_balance_on_a_symmetric_arch_and_follow_k0():
+    b = bridge()
+    h = [f["force"][0] for f in dead_loads(b) if f["force"][0]]
+    assert sum(h) == pytest.approx(0.0, abs=1e-9)
+    # each half: K0 gamma b (road depth) integrated over the height of the extrados
+    p = extrados(b)
+    top, low = p[:, 1].max(), p[0, 1]
+    k0 = 1 - math.sin(math.radians(35.0))
+    expected = k0 * 18.0 * 2.0 * ((b.road - low) ** 2 - (b.road - top) ** 2) / 2
+    assert sum(x for x in h if x > 0) == pytest.approx(expected, rel=1e-12)
+
+
+def test_an_axle_within_the_span_puts_its_whole_force_on_the_ring():
+    b = bridge()
+    for x in (-1.5, 0.0, 0.7):
+        loads = live_loads(b, x, "c")
+        assert sum(f["force"][1] for f in loads) == pytest.approx(-50.0, rel=1e-12)
+        centre = sum(f["at"][0] * f["force"][1] for f in loads) / sum(f["force"][1] for f in loads)
+        # under the axle, shifted towards the deeper fill (it spreads wider there)
+        assert 0 <= (centre - x) * np.sign(x) < 0.2 if x else abs(centre) < 1e-9
+    # a wider spread angle loads more voussoirs
+    narrow = live_loads(bridge(fill={"spread": 10.0}), -1.5, "c")
+    wide = live_loads(bridge(fill={"spread": 45.0}), -1.5, "c")
+    assert len(wide) > len(narrow)
+
+
+def test_an_axle_at_the_springing_leaves_part_of_its_force_to_the_abutment():
+    b = bridge()
+    carried = -sum(f["force"][1] for f in live_loads(b, -3.0, "c"))
+    assert 0 < carried < 50.0
+
+
+def test_passive_capacity_is_the_mobilised_share_above_the_lateral_pressure():
+    b = bridge()
+    kp = (1 + math.sin(math.radians(35))) / (1 - math.sin(math.radians(35)))
+    k0 = 1 - math.sin(math.radians(35))
+    lateral = sum(abs(f["force"][0]) for f in dead_loads(b))
+    passive = sum(r["capacity"] for r in restraints(b))
+    assert passive == pytest.approx(lateral * (0.5 * kp - k0) / k0, rel=1e-12)
+    assert all(r["direction"][0] == (1.0 if r["at"][0] < 0 else -1.0) for r in restraints(b))
+
+
+def _area(v):
+    x, y = np.asarray(v).T
+    return 0.5 * abs(x @ np.roll(y, -1) - y @ np.roll(x, -1))
+
+
+def test_the_built_structure_carries_every_force_and_restraint():
+    b = bridge()
+    s = structure_from_spec(bridge_spec(b), "b")
+    assert s.restraints == len(restraints(b)) > 0
+    assert sorted(s.cases) == ["x=-1.5", "x=0"]
+    ring = sum(_area(s.polygons[k]) for k in s.blocks)   # the ring's weight and the fill's
+    assert s.dead[:, 1].sum() == pytest.approx(sum(f["force"][1] for f in dead_loads(b)) - 20.0 * 2.0 * ring,
+                                               rel=1e-9)
+    k = s.n_contacts - s.restraints
+    assert np.all(s.mu[k:] == 0) and np.all(np.isfinite(s.fc[k:])) and np.all(np.isinf(s.fc[:k]))
+    # capacity = 2 d b fc: the restraint's largest push
+    assert (2 * s.d[k:] * s.thickness[k:] * s.fc[k:]).sum() == pytest.approx(
+        sum(r["capacity"] for r in restraints(b)), rel=1e-12)
+    no = structure_from_spec(bridge_spec(b, passive=False), "b")
+    assert no.restraints == 0 and no.n_contacts == k
+
+
+def test_restraints_survive_writing_the_structure_back():
+    b = bridge()
+    spec = bridge_spec(b)
+    s = structure_from_spec(spec, "b")
+    s.live = s.cases["x=0"].live          # a structure with one live pattern writes back
+    s.live_m = s.cases["x=0"].live_m
+    s.cases = {}
+    again = structure_from_spec(structure_to_json(s), "again")
+    assert again.restraints == s.restraints
+    for name in ("centre", "normal", "d", "mu", "fc", "thickness"):
+        assert np.allclose(getattr(again, name), getattr(s, name), rtol=1e-12, atol=1e-12), name
+
+
+@pytest.mark.parametrize("change, field", [
+    ({"span": -1}, "'span'"), ({"rise": 4.0}, "'rise'"), ({"ring": {"voussoirs": 2}}, "'voussoirs'"),
+    ({"ring": {"thickness": "thick"}}, "'thickness'"), ({"fill": {"phi": 95}}, "'phi'"),
+    ({"fill": {"lateral": "sideways"}}, "'lateral'"), ({"fill": {"spread": 90}}, "'spread'"),
+    ({"load": {"positions": []}}, "'positions'"), ({"width": 0}, "'width'"), ({"skew": 95}, "'skew'"),
+    ({"abutments": {"kind": "floating"}}, "'kind'")])
+def test_bad_values_name_their_field(change, field):
+    with pytest.raises(InputError, match=field):
+        bridge(**change)
+
+
+def test_a_bad_restraint_names_its_field():
+    spec = bridge_spec(bridge())
+    spec["restraints"][0]["capacity"] = -1
+    with pytest.raises(InputError, match=r"restraints\[0\].*'capacity'"):
+        structure_from_spec(spec, "f")
+    spec["restraints"][0].update(capacity=1.0, support="v3")
+    with pytest.raises(InputError, match="expected the id of a support"):
+        structure_from_spec(spec, "f")
+
+
+def _cli(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "lamodel.cli", *args], capture_output=True, text=True, cwd=cwd,
+                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}, timeout=300)
+
+
+def test_the_command_builds_a_structure_and_a_picture_and_refuses_bad_input(tmp_path):
+    spec = dict(BASE, extra_field=1)
+    (tmp_path / "b.json").write_text(json.dumps(spec))
+    run = _cli("bridge", "b.json", "out.json", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "unknown" in run.stderr and "extra_field" in run.stderr   # a warning, not an error
+    assert (tmp_path / "out.png").stat().st_size > 0
+    built = json.loads((tmp_path / "out.json").read_text())
+    assert built["restraints"] and any(x.get("case") == "x=0" for x in built["loads"])
+    (tmp_path / "bad.json").write_text(json.dumps(dict(BASE, rise="high")))
+    run = _cli("bridge", "bad.json", cwd=tmp_path)
+    assert run.returncode == 2
+    assert "'rise'" in run.stderr and len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
+    run = _cli("solve", "b.json", "--out", "out", cwd=tmp_path)   # a description is not blocks
+    assert run.returncode == 2 and "a bridge description, not blocks" in run.stderr
+
+
+def test_skew_is_recorded_not_modelled():
+    skewed = bridge_spec(bridge(skew=20.0))
+    assert "skew 20 deg (not modelled)" in skewed["description"]
+    assert skewed["blocks"] == bridge_spec(bridge())["blocks"]
+
+
+def test_the_example_builds():
+    b = read_bridge(INSTANCES / "bridge_demo.json")
+    s = structure_from_spec(bridge_spec(b), "demo")
+    assert len(s.cases) == 21 and s.restraints == 24
+
+
+def test_backing_blocks_carry_the_fill_above_them():
+    from lamodel.bridges.backing import backing_blocks, bed
+    b = bridge(backing={"height": 1.0})
+    blocks = backing_blocks(b)
+    assert {"backing_left", "backing_right"} <= {x["id"] for x in blocks}
+    s = structure_from_spec(bridge_spec(b), "b")
+    ids = set(s.blocks)
+    assert all(x["id"] in ids for x in blocks)
+    # every backing block touches its voussoir or a neighbour; the ends stand on the abutments
+    pairs = set(zip(s.block_a, s.block_b))
+    assert ("abutment_left", "backing_left") in pairs and ("abutment_right", "backing_right") in pairs
+    # the whole dead load: ring and backing (masonry) and the fill between the road and the bed
+    seg = bed(b)
+    xs = np.array([p[0] for _, p, _ in seg] + [seg[-1][2][0]])
+    ys = np.array([p[1] for _, p, _ in seg] + [seg[-1][2][1]])
+    fill_area = b.road * (xs[-1] - xs[0]) - np.trapezoid(ys, xs)
+    masonry = sum(_area(s.polygons[k]) for k in s.blocks)
+    assert s.dead[:, 1].sum() == pytest.approx(-(20.0 * masonry + 18.0 * fill_area) * 2.0, rel=1e-9)
+    # no passive restraint on the chords the backing covers
+    assert len(restraints(b)) < len(restraints(bridge()))
+    with pytest.raises(InputError, match="backing: 'height'"):
+        bridge(backing={"height": 5.0})
+
+
+def test_a_solved_bridge_is_rebuilt_from_its_tables_by_the_oracle(tmp_path):
+    """The fill's forces (blocks.csv) and the passive restraints (contacts.csv, with their
+    capacity as fc and thickness) are all an external checker needs."""
+    import pandas as pd
+    from oracle import check_folder
+    spec = json.loads(json.dumps(BASE))
+    spec["load"]["positions"] = [-1.5]
+    (tmp_path / "b.json").write_text(json.dumps(spec))
+    assert _cli("bridge", "b.json", "built.json", cwd=tmp_path).returncode == 0
+    run = _cli("solve", "built.json", "--starts", "0", "--out", "out", "--quiet", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    alpha = check_folder(tmp_path / "out")
+    contacts = pd.read_csv(tmp_path / "out" / "contacts.csv")
+    passive = contacts[contacts["mu"] == 0]
+    assert len(passive) == len(restraints(bridge())) and np.isfinite(passive["fc"]).all()
+    assert (passive["N"] >= -2 * passive["d"] * passive["thickness"] * passive["fc"] * (1 + 1e-7)).all()
+    assert alpha > 0
+
+
+def test_an_elliptical_arch_as_high_as_half_its_span_is_the_semicircle():
+    from lamodel.bridges.ring import voussoirs
+    circle = voussoirs(bridge(rise=3.0))
+    ellipse = voussoirs(bridge(rise=3.0, shape="elliptical"))
+    assert np.allclose([v["vertices"] for v in circle], [v["vertices"] for v in ellipse], atol=1e-12)
+
+
+def test_a_pointed_arch_has_a_vertical_joint_at_its_apex():
+    from lamodel.bridges.ring import intrados
+    b = bridge(rise=4.0, shape="pointed")
+    points, normal = intrados(b)
+    mid = len(points) // 2
+    assert np.allclose(points[mid], [0.0, 4.0]) and np.allclose(normal[mid], [0.0, 1.0])
+    assert np.allclose(points[:, 0], -points[::-1, 0]) and np.allclose(points[:, 1], points[::-1, 1])
+    s = structure_from_spec(bridge_spec(b), "pointed")
+    assert len(s.blocks) == 16
+    with pytest.raises(InputError, match="even number"):
+        bridge(rise=4.0, shape="pointed", ring={"voussoirs": 15})
+    with pytest.raises(InputError, match="'rise'.*pointed"):
+        bridge(rise=2.0, shape="pointed")
+    with pytest.raises(InputError, match="'shape'"):
+        bridge(shape="gothic")

@@ -1,0 +1,142 @@
+"""Bridges against what the mechanics says: Heyman's least thickness of a semicircular arch,
+the fill's dead load alone carried, the passive restraint and the fill each raising the
+adequacy factor, a mirrored bridge giving the same one, every state an independent oracle
+accepts."""
+import json
+
+import pytest
+
+from oracle import check_state
+
+from lamodel.bridges import bridge_spec, read_bridge
+from lamodel.bridges.adequacy import adequacy_study, structure_of
+from lamodel.loads import case_structure
+from lamodel.search.driver import SolveOptions, solve
+from lamodel.search.unstable import dead_load_mechanism
+
+LP_ONLY = SolveOptions(starts=0, progress=False)
+BASE = {"name": "b", "units": {"length": "m", "force": "kN"}, "span": 6.0, "rise": 1.5, "width": 1.0,
+        "ring": {"thickness": 0.3, "voussoirs": 16, "unit_weight": 20.0, "mu": 0.6},
+        "fill": {"depth": 0.4, "unit_weight": 18.0, "phi": 35.0, "passive": 0.33}, "backing": {"height": 0.0},
+        "load": {"force": 50.0, "patch": 0.2, "positions": [-1.5]}}
+
+
+def bridge(**changes):
+    spec = json.loads(json.dumps(BASE))
+    for key, value in changes.items():
+        spec.setdefault(key, {}).update(value) if isinstance(value, dict) else spec.__setitem__(key, value)
+    return read_bridge(spec)
+
+
+def outcome(b, x=-1.5, passive=True):
+    s = case_structure(structure_of(b, passive), f"x={x:.6g}")
+    o = solve(s, LP_ONLY)
+    assert o.certified, o.message
+    check_state(o.structure, o.best)        # statics, mechanism and work rebuilt independently
+    return o
+
+
+def alpha(b, x=-1.5, passive=True):
+    return outcome(b, x, passive).best.alpha
+
+
+def _stands(rho, voussoirs):
+    """Whether a bare semicircular ring of t / R = rho (R its mean radius) carries its own
+    weight (no fill, mu large: only hinges)."""
+    t = 5 * rho / (1 - rho / 2)         # intrados radius 5: t = rho (5 + t / 2)
+    b = read_bridge({"span": 10, "rise": 5, "ring": {"thickness": t, "voussoirs": voussoirs, "mu": 10},
+                     "fill": {"unit_weight": 0, "lateral": "none", "passive": 0}, "load": {"positions": [0]}})
+    from lamodel.io.jsonspec import structure_from_spec
+    return dead_load_mechanism(structure_from_spec(bridge_spec(b, passive=False), "ring")) is None
+
+
+def test_a_bare_semicircular_ring_needs_heymans_least_thickness():
+    """Heyman (1969), Milankovitch: t/R = 0.1075 for a continuous ring; 60 radial joints
+    find it within 0.001 (the ring stands at 0.1085 and falls at 0.1065)."""
+    assert _stands(0.1085, 60) and not _stands(0.1065, 60)
+    lo, hi = 0.09, 0.13
+    for _ in range(12):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if _stands(mid, 60) else (mid, hi)
+    assert hi == pytest.approx(0.1075, abs=1e-3)
+
+
+def test_the_fill_alone_is_carried_by_a_symmetric_arch():
+    b = bridge()
+    assert dead_load_mechanism(structure_of(b)) is None
+    assert dead_load_mechanism(structure_of(b, passive=False)) is None
+
+
+def test_the_passive_restraint_never_lowers_the_adequacy_factor():
+    b = bridge()
+    with_passive, without = alpha(b), alpha(b, passive=False)
+    assert without <= with_passive * (1 + 1e-9)
+    assert with_passive > 1.05 * without      # here it matters: the haunch moves into the fill
+    assert alpha(bridge(fill={"passive": 1.0})) >= with_passive * (1 - 1e-9)
+
+
+def test_deeper_fill_and_a_wider_spread_raise_the_adequacy_factor():
+    base = alpha(bridge())
+    assert alpha(bridge(fill={"depth": 0.8})) > base
+    assert alpha(bridge(fill={"spread": 45.0})) > base > alpha(bridge(fill={"spread": 15.0}))
+
+
+def test_backing_raises_the_adequacy_factor():
+    base = alpha(bridge())
+    assert alpha(bridge(backing={"height": 0.6})) > base
+
+
+def test_a_mirrored_load_gives_the_same_adequacy_factor():
+    b = bridge(load={"positions": [-1.5, 1.5], "axles": [0, 0.8]}, backing={"height": 0.6})
+    table = adequacy_study(b, LP_ONLY)
+    mirrored = adequacy_study(b.mirrored(), LP_ONLY)
+    assert table["certified"].all() and mirrored["certified"].all()
+    # row i of the mirror: the lead axle at -x, the other at -(x + 0.8)
+    assert list(mirrored["position"]) == [1.5, -1.5]
+    assert list(mirrored["adequacy"]) == pytest.approx(list(table["adequacy"]), rel=1e-6)
+    assert table["adequacy"].iloc[0] != pytest.approx(table["adequacy"].iloc[1], rel=1e-3)  # not symmetric
+    assert table["collapse_load"].iloc[0] == pytest.approx(50.0 * table["adequacy"].iloc[0])
+
+
+def test_the_words_and_the_picture_name_joints_not_restraints(tmp_path):
+    from lamodel.output.kinematics import contact_modes
+    from lamodel.output.plot import plot_mechanism
+    from lamodel.output.words import describe, joint_marks
+    o = outcome(bridge())
+    s, u = o.structure, o.best.u.reshape(-1, 3)
+    modes = contact_modes(s, u)
+    restraint_ids = set(s.contacts[s.n_contacts - s.restraints:])
+    assert any("crushing" in modes[k] for k in range(s.n_contacts - s.restraints, s.n_contacts))  # at capacity
+    marks = joint_marks(s, u, modes)
+    assert marks and not {m.contact for m in marks} & restraint_ids
+    hinges = [m for m in marks if m.kind == "hinge"]
+    assert len(hinges) == 4                                      # the four-hinge mechanism
+    lines = describe(s, u, modes, o.best.alpha)
+    assert any(line.startswith("Restraints: ") and "at their capacity" in line for line in lines)
+    plot_mechanism(s, u, modes, path=tmp_path / "m.png")
+    assert (tmp_path / "m.png").stat().st_size > 0
+
+
+def test_rings_are_separate_rows_of_voussoirs_joined_by_ring_interfaces():
+    one = bridge(ring={"voussoirs": 12}, load={"positions": [-1.5]})
+    two = bridge(ring={"voussoirs": 12, "rings": 2}, load={"positions": [-1.5]})
+    s = structure_of(two)
+    ring_interfaces = [k for k in range(s.n_contacts) if {s.block_a[k][:2], s.block_b[k][:2]} == {"r1", "r2"}]
+    assert len(ring_interfaces) == 12 and len(s.blocks) == 24
+    # the rings can separate and slide on each other: more ways to fail, never a higher alpha
+    assert alpha(two) <= alpha(one) * (1 + 1e-9)
+
+
+def test_abutments_as_blocks_can_slide_and_overturn():
+    rigid = alpha(bridge())
+    narrow = alpha(bridge(abutments={"kind": "block", "width": 0.5, "height": 1.0}))
+    wide = alpha(bridge(abutments={"kind": "block", "width": 2.0, "height": 1.0}))
+    assert narrow < wide <= rigid * (1 + 1e-9)
+    assert structure_of(bridge(abutments={"kind": "block"})).supports == ["ground"]
+
+
+def test_a_pointed_arch_loaded_at_mirrored_points_gives_the_same_alpha():
+    b = bridge(rise=4.0, shape="pointed", ring={"thickness": 0.6}, load={"positions": [-1.5, 1.5]})
+    table = adequacy_study(b, LP_ONLY)
+    assert table["certified"].all()
+    assert table["adequacy"].iloc[0] == pytest.approx(table["adequacy"].iloc[1], rel=1e-6)
