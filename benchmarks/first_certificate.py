@@ -49,7 +49,7 @@ def cases(sizes, mus, others):
         for mu in (0.75, 0.9):
             out.append((f"stack15x10_mu{mu:g}", lambda mu=mu: _wall(15, 10, mu, stack=True)))
         for mu in (0.65, 0.8):
-            out.append((f"stones80_s1_mu{mu:g}", lambda mu=mu: _stones(80, 1, mu, "stones")))
+            out.append((f"stones160_s2_mu{mu:g}", lambda mu=mu: _stones(160, 2, mu, "stones")))
     return out
 
 
