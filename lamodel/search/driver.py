@@ -8,7 +8,7 @@ become points of eq. (5), polished by Ipopt — on the LP search of :mod:`.gap`:
    come back in the user's units (:class:`.gap.problem.ScaledProblem`).
 2. **The plan** (:mod:`.plan`: phases and lanes in the order they run): the associative
    bound; the first certificate (the gap alternation, and where it stalls the lanes
-   [single block, rescue, chain from zero cohesion, fixed-point fallback] beside [dilatancy
+   [single block, chain from zero cohesion, rescue, fixed-point fallback] beside [dilatancy
    continuation]); stability; the continuation lanes; the GA (:mod:`.genetic`: no
    improvement for a while, counted in evaluations and LP solves against those of the
    first certificate, at most ``generations`` generations, or the time limit); the lane

@@ -3,7 +3,7 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
 2. **first certificate** — the gap alternation from there; if it stalls, lane
-   [single block, rescue, chain from zero cohesion, fixed-point fallback] (on the search's
+   [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
 4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
@@ -40,8 +40,10 @@ from .tuning import RHO_CONTS
 
 log = logging.getLogger(__name__)
 
-#: Where the gap alternation stalls: here (the search's engine), then beside it.
-IF_STALLED = Lane((SingleBlocks(), Rescue(), FromZero(cold=True), FixedPoint()), until_certified=True)
+#: Where the gap alternation stalls: here (the search's engine), then beside it. The chain
+#: from zero cohesion before the rescue: at a partial optimum the rescue's ladders stay there
+#: (docs/method/evidence.md, "The lanes where the first certificate stalls").
+IF_STALLED = Lane((SingleBlocks(), FromZero(cold=True), Rescue(), FixedPoint()), until_certified=True)
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
 #: After stability: the continuation lanes.
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
