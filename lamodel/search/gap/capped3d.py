@@ -14,6 +14,8 @@ conic one fails the residual test. No alignment of sliding directions, no polish
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .. import caps3d
@@ -78,6 +80,16 @@ class CappedConeProblem(ConeProblem):
                 x = cone.x if cone.ok else None
             if x is not None:
                 yield x, u, np.where(held, self.flows(u, 0.0), 0.0), held, "+certify-caps"
+
+    def crushing_message(self) -> str:
+        """Why the structure cannot stand when its joints' caps are the reason: with dry,
+        infinitely strong joints it stands (a cone program solved once, here); '' otherwise."""
+        dry = replace(self.user, fc=None, ft=None, cohesion=None, area=None)
+        status, x = ConeProblem(dry, self.deadline).statics()
+        if status == "optimal" and x[-1] <= self.stable_alpha:
+            return ("; with dry joints it stands: the joints crush under the dead load "
+                    "(compressive strength fc too small for the forces their points carry)")
+        return ""
 
     def _state(self, x, u, source):
         st = super()._state(x, u, source)
