@@ -111,10 +111,11 @@ def check_folder(folder):
         alpha_k += max(k - mu * N, 0.0) * slip + high * max(qn, 0.0)
         if qn < 0 and low > -math.inf:   # a crushing point: on its cap, dissipating there
             alpha_k += low * qn
-            opening = max(opening, abs((N - low) * qn) / (force_scale * scale_u))
+            opening = max(opening, min(abs(N - low) / force_scale, 1.0) * -qn / scale_u)
         else:
             opening = max(opening, -qn / scale_u)
-        opening = max(opening, abs((N - high) * max(qn, 0.0)) / (force_scale * scale_u))
+        # opening off the tensile cap: the smaller of the motion and its work there
+        opening = max(opening, min(abs(N - high) / force_scale, 1.0) * max(qn, 0.0) / scale_u)
         flow = max(flow, abs((k - mu * N) * slip - (T1 * s1 + T2 * s2)) / (force_scale * scale_u))
     return {"alpha": alpha, "alpha_fit": -num / den, "equilibrium": equilibrium / force_scale,
             "cone": max(cone, 0.0) / force_scale, "normalisation": abs(normalisation - 1.0),

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..search.tuning import CAP_FAR
 from ..structure3d import Structure3D
 from .matrices import Statics
 
@@ -162,7 +163,10 @@ class Formulation3D(Statics):
         if not self.structure.has_materials:
             return None
         if getattr(self, "_caps", None) is None:
-            self._caps = self.structure.caps()
+            crush, tension, k = self.structure.caps()
+            # a cap no state reaches is none (CAP_FAR): its row would only spoil the programs' scale
+            loads = np.abs(self.f0).sum() + np.abs(self.fbar).sum()
+            self._caps = (np.where(crush < -CAP_FAR * loads, -np.inf, crush), tension, k)
         return self._caps
 
     def split(self, s_f):

@@ -180,3 +180,16 @@ def test_tributary_areas():
     inner = np.array([[x, y, 0.0] for x in (-0.5, 0.5) for y in (-0.25, 0.25)])
     a = point_areas([rect], [0] * 8, np.vstack([rect, inner]))
     assert a.sum() == pytest.approx(2.0) and np.all(a[4:] > a[:4])
+
+
+def test_grid_points_converge_to_the_stress_block():
+    """The box with a grid:n base (fc = 16, W = 8): alpha tends to the planar stress
+    block's (A / 2 - W / (2 fc B)) / (H / 2) = 0.375 as n grows (the docs' table)."""
+    exact = (A / 2 - A * B * H / (2 * 16.0 * B)) / (H / 2)
+    errors = []
+    for n in (4, 8, 16):
+        s = structure3d_from_spec(box_spec(fc=16.0, contact_points=f"grid:{n}"))
+        r = solve(s)
+        assert r.state is not None
+        errors.append(abs(r.alpha - exact) / exact)
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-3

@@ -10,7 +10,8 @@ cohesion is ``max(k - mu N, 0)`` (the search's ``-mu N`` plus k), the caps assoc
 (:func:`~lamodel.formulation.space.gap_constant`). The certificates are the exact LP of
 :func:`lamodel.search.caps3d.statics_lp` and the held cone program, the state's
 mechanism fitted to its statics (:func:`lamodel.search.caps3d.mechanism_lp`) where the
-conic one fails the residual test. No alignment of sliding directions, no polish.
+conic one fails the residual test; then the dry joints' candidates (exact motions,
+polished, sliding directions aligned), which the residual test with the caps judges.
 """
 from __future__ import annotations
 
@@ -80,6 +81,11 @@ class CappedConeProblem(ConeProblem):
                 x = cone.x if cone.ok else None
             if x is not None:
                 yield x, u, np.where(held, self.flows(u, 0.0), 0.0), held, "+certify-caps"
+        # then the dry joints' candidates (exact motions, polished, aligned directions): they
+        # know no caps, so the residual test with the caps keeps only those that hold them
+        for x, v, _, held, tag in super().certificates(u, xi, flow[:2 * n], cap):
+            held = np.concatenate([held, np.zeros(n, bool)])
+            yield x, v, np.where(held, self.flows(v, 0.0), 0.0), held, tag
 
     def crushing_message(self) -> str:
         """Why the structure cannot stand when its joints' caps are the reason: with dry,

@@ -180,11 +180,15 @@ class ConeProblem(Scoped):
         return self.form.gap_weights(self._moving_strains(xi, u))
 
     def _moving_strains(self, xi, u):
-        """The strains of u at the points xi flows at (openings >= 0 without caps)."""
+        """The strains of u at the points xi flows at (openings >= 0; with the caps, the
+        normal strain only where an opening or crushing row flows: a cap times a closing
+        of the conic tolerance is no dissipation)."""
         n = self.np
         q = self._strains(u)
         if self.caps is None:
             q[:n] = np.maximum(q[:n], 0.0)
+        else:
+            q[:n] = np.where((xi[:n] > 0) | (xi[2 * n:] > 0), q[:n], 0.0)
         moving = np.tile(xi.reshape(-1, n).sum(axis=0) > 0, 3)
         return np.where(moving, q, 0.0)
 
@@ -291,7 +295,7 @@ class ConeProblem(Scoped):
             first = first or (opening, sliding, exact)
             held = np.concatenate([opening, sliding])
             for tag, x in self._held_statics(opening, sliding, self._directions(exact)):
-                yield x, exact, np.where(held, self.flows(exact, 0.0), 0.0), held, "+certify-" + tag
+                yield x, exact, np.where(held, self.flows(exact, 0.0)[:held.size], 0.0), held, "+certify-" + tag
         if first is None or c is None or not first[1].any():
             return
         # the alignment's first LP tells in a dozen interior-point iterations that a pattern
@@ -330,7 +334,7 @@ class ConeProblem(Scoped):
             return
         held = np.concatenate([opening, sliding])
         for tag, x in self._held_statics(opening, sliding, got[0]):
-            yield x, moved, np.where(held, self.flows(moved, 0.0), 0.0), held, "+align-" + tag
+            yield x, moved, np.where(held, self.flows(moved, 0.0)[:held.size], 0.0), held, "+align-" + tag
 
     def _exact_motion(self, u, opening, sliding, c):
         """The nearest exact motion with only ``opening`` and ``sliding`` points moving
