@@ -193,3 +193,17 @@ def test_grid_points_converge_to_the_stress_block():
         assert r.state is not None
         errors.append(abs(r.alpha - exact) / exact)
     assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-3
+
+
+def test_turned_mirrored_renumbered_give_the_same_alpha():
+    """The crushing stack of three boxes turned, mirrored and its blocks and points
+    renumbered: the same alpha (uniform strengths, so each point keeps its own)."""
+    s = stack_of_boxes(3, 1.0, 1.0, 0.8, mu=5.0)
+    base = solve(strong(s, fc=5.0)).alpha
+    c, t = np.cos(0.7), np.sin(0.7)
+    turn = np.array([[c, -t, 0], [t, c, 0], [0, 0, 1.0]])
+    mirror = np.diag([-1.0, 1.0, 1.0])
+    rng = np.random.default_rng(3)
+    for R in (turn, mirror @ turn):
+        moved = transformed(s, R, block_order=rng.permutation(s.n_blocks), point_order=rng.permutation(s.n_points))
+        assert solve(strong(moved, fc=5.0)).alpha == pytest.approx(base, rel=1e-7)
