@@ -207,3 +207,9 @@ def test_turned_mirrored_renumbered_give_the_same_alpha():
     for R in (turn, mirror @ turn):
         moved = transformed(s, R, block_order=rng.permutation(s.n_blocks), point_order=rng.permutation(s.n_points))
         assert solve(strong(moved, fc=5.0)).alpha == pytest.approx(base, rel=1e-7)
+
+
+def test_the_pyomo_model_in_space_refuses_strengths():
+    from lamodel.formulation.model3d import create_model3d
+    with pytest.raises(InputError, match="dry joints only"):
+        create_model3d(strong(box_on_ground(A, B, H), fc=1.0))
