@@ -213,3 +213,18 @@ def test_the_pyomo_model_in_space_refuses_strengths():
     from lamodel.formulation.model3d import create_model3d
     with pytest.raises(InputError, match="dry joints only"):
         create_model3d(strong(box_on_ground(A, B, H), fc=1.0))
+
+
+def test_a_tension_state_passes_the_oracle(tmp_path):
+    """--ft with the cohesion mu ft on the box file (W = 8): the back points open at their
+    tensile caps, alpha = (W + 2 P_t) a / (W h), and the oracle finds the state exact."""
+    f = tmp_path / "box.json"
+    f.write_text(json.dumps(box_spec()))
+    o = tmp_path / "o"
+    assert command("solve", [str(f), "--out", str(o), "--no-plot", "--quiet", "--ft", "0.1", "--cohesion", "0.5"]) == 0
+    weight, Pt = A * B * H, 0.1 * A * B / 2
+    assert pd.read_csv(o / "summary.csv")["alpha"][0] == pytest.approx((weight + 2 * Pt) * A / (weight * H), abs=1e-7)
+    c = pd.read_csv(o / "contacts.csv")
+    opening = c["mode"] == "opening"
+    assert opening.sum() == 2 and np.allclose(c["N"][opening], 0.1 * A * B / 4)
+    assert violations(o) == []
