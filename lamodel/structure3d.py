@@ -57,6 +57,7 @@ class Structure3D(Assembly):
     ft: np.ndarray | None = None         # (np,) tensile strength
     cohesion: np.ndarray | None = None   # (np,) cohesion c0
     area: np.ndarray | None = None       # (np,) tributary area A_i; None: from iface_polygon
+    iface_holes: list = field(default_factory=list)  # per interface: [(m, 3) hole rings]; empty: none
 
     dimension = 3
 
@@ -101,7 +102,7 @@ class Structure3D(Assembly):
         interfaces' polygons when the reader gave none)."""
         if self.area is None:
             from .geometry.tributary import point_areas
-            self.area = point_areas(self.iface_polygon, self.point_interface, self.point)
+            self.area = point_areas(self.iface_polygon, self.point_interface, self.point, self.iface_holes)
         return self.area
 
     def caps(self):

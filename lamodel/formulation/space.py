@@ -127,7 +127,8 @@ def scaled(s: Structure3D, F: float, L: float) -> Structure3D:
     return Structure3D(
         name=s.name, blocks=s.blocks, centroid=s.centroid / L, dead=s.dead / F, live=s.live / F,
         supports=s.supports, interfaces=s.interfaces, iface_a=s.iface_a, iface_b=s.iface_b,
-        iface_polygon=[p / L for p in s.iface_polygon], point_interface=s.point_interface, point=s.point / L,
+        iface_polygon=[p / L for p in s.iface_polygon], iface_holes=[[h / L for h in hs] for hs in s.iface_holes],
+        point_interface=s.point_interface, point=s.point / L,
         normal=s.normal, tangent1=s.tangent1, tangent2=s.tangent2, mu=s.mu, dead_m=s.dead_m / (F * L),
         live_m=s.live_m / (F * L), volume=s.volume / L ** 3,
         polyhedra={k: (np.asarray(v) / L, f) for k, (v, f) in s.polyhedra.items()}, units={}, meta=dict(s.meta),

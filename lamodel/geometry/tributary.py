@@ -53,9 +53,10 @@ def areas_in_frame(shape, frame, points: np.ndarray) -> np.ndarray:
     return tributary_areas(shape, np.column_stack([rel @ e1, rel @ e2]))
 
 
-def point_areas(polygons, point_interface, point) -> np.ndarray:
+def point_areas(polygons, point_interface, point, holes=()) -> np.ndarray:
     """A_i of every contact point of a structure given as outlines: interface k's polygon
-    ``polygons[k]`` (k, 3) shared among its points by :func:`tributary_areas`."""
+    ``polygons[k]`` (k, 3) less its holes ``holes[k]`` (rings (m, 3); none if ``holes``
+    is empty) shared among its points by :func:`tributary_areas`."""
     point_interface = np.asarray(point_interface, int)
     out = np.zeros(len(point_interface))
     for k, poly in enumerate(polygons):
@@ -63,6 +64,7 @@ def point_areas(polygons, point_interface, point) -> np.ndarray:
         if on.size:
             frame = plane_frame(poly)
             o, e1, e2 = frame
-            shape = shapely.Polygon(np.column_stack([(poly - o) @ e1, (poly - o) @ e2]))
+            flat = lambda ring: np.column_stack([(ring - o) @ e1, (ring - o) @ e2])  # noqa: E731
+            shape = shapely.Polygon(flat(poly), [flat(np.asarray(h, float)) for h in (holes[k] if holes else [])])
             out[on] = areas_in_frame(shape, frame, point[on])
     return out

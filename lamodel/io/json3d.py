@@ -216,7 +216,7 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
         supports=[ids[j] for j in np.flatnonzero(is_support)],
         interfaces=[f"i{k + 1}" for k in range(len(interfaces))],
         iface_a=[ids[f.a] for f in interfaces], iface_b=[ids[f.b] for f in interfaces],
-        iface_polygon=[f.polygon for f in interfaces],
+        iface_polygon=[f.polygon for f in interfaces], iface_holes=[list(f.holes) for f in interfaces],
         point_interface=np.repeat(np.arange(len(interfaces)), count),
         point=np.vstack(pts) if pts else np.zeros((0, 3)), normal=normal, tangent1=t1, tangent2=t2,
         mu=np.repeat(iface_mu, count), dead_m=dead_m, live_m=live_m, volume=volume,

@@ -180,6 +180,8 @@ def test_tributary_areas():
     inner = np.array([[x, y, 0.0] for x in (-0.5, 0.5) for y in (-0.25, 0.25)])
     a = point_areas([rect], [0] * 8, np.vstack([rect, inner]))
     assert a.sum() == pytest.approx(2.0) and np.all(a[4:] > a[:4])
+    hole = np.array([[-0.2, -0.1, 0], [0.2, -0.1, 0], [0.2, 0.1, 0], [-0.2, 0.1, 0.0]])
+    assert point_areas([rect], [0] * 4, rect, [[hole]]).sum() == pytest.approx(2.0 - 0.08)
 
 
 def test_grid_points_converge_to_the_stress_block():
