@@ -26,7 +26,8 @@ import numpy as np
 
 from .assembly import Assembly
 from .errors import InputError
-from .validation import check_ends, check_finite, check_friction, check_ids, check_live, check_touched, first
+from .validation import (check_ends, check_finite, check_friction, check_ids, check_live, check_strengths, check_touched,
+                         first)
 
 
 @dataclass
@@ -50,6 +51,13 @@ class Structure3D(Assembly):
     polyhedra: dict = field(default_factory=dict)  # id -> (vertices (k, 3), faces [[i, j, k, ...]])
     units: dict = field(default_factory=dict)      # {"length": "m", "force": "kN"}; empty: dimensionless
     meta: dict = field(default_factory=dict)       # defaults applied, source format, ...
+    # the joints' strengths per contact point (stresses; the defaults are the dry joint,
+    # infinitely strong in compression) and its tributary area (lamodel.geometry.tributary)
+    fc: np.ndarray | None = None         # (np,) compressive strength, inf: no crushing
+    ft: np.ndarray | None = None         # (np,) tensile strength
+    cohesion: np.ndarray | None = None   # (np,) cohesion c0
+    area: np.ndarray | None = None       # (np,) tributary area A_i; None: from iface_polygon
+    iface_holes: list = field(default_factory=list)  # per interface: [(m, 3) hole rings]; empty: none
 
     dimension = 3
 
@@ -69,6 +77,11 @@ class Structure3D(Assembly):
         self.dead_m = np.zeros((nb, 3)) if self.dead_m is None else f(self.dead_m, (nb, 3))
         self.live_m = np.zeros((nb, 3)) if self.live_m is None else f(self.live_m, (nb, 3))
         self.volume = np.zeros(nb) if self.volume is None else f(self.volume, (nb,))
+        for name, default in (("fc", np.inf), ("ft", 0.0), ("cohesion", 0.0)):
+            value = getattr(self, name)
+            setattr(self, name, np.full(npt, default) if value is None else f(value, (npt,)))
+        if self.area is not None:
+            self.area = f(self.area, (npt,))
 
     # ----------------------------------------------------------------- sizes and lookups
     @property
@@ -78,6 +91,28 @@ class Structure3D(Assembly):
     @property
     def n_points(self) -> int:
         return len(self.point_interface)
+
+    @property
+    def has_materials(self) -> bool:
+        """Whether some point crushes, takes tension or has cohesion (else the dry cone)."""
+        return bool(np.isfinite(self.fc).any() or (self.ft > 0).any() or (self.cohesion > 0).any())
+
+    def areas(self) -> np.ndarray:
+        """The tributary area A_i of every contact point (computed once from the
+        interfaces' polygons when the reader gave none)."""
+        if self.area is None:
+            from .geometry.tributary import point_areas
+            self.area = point_areas(self.iface_polygon, self.point_interface, self.point, self.iface_holes)
+        return self.area
+
+    def caps(self):
+        """Per point ``(N_c, N_t, k)``: the crushing force ``-f_c A_i`` (-inf: none), the
+        tensile force ``f_t A_i`` and the cohesion force ``c0 A_i``; the real domain is
+        ``N_c <= N <= N_t``, ``||T|| <= k - mu N``."""
+        A = self.areas()
+        finite = np.isfinite(self.fc)
+        crush = np.where(finite, -np.where(finite, self.fc, 0.0) * A, -np.inf)
+        return crush, self.ft * A, self.cohesion * A
 
     def interface_blocks(self):
         """Indices of blocks a and b per interface, -1 for a support."""
@@ -118,7 +153,11 @@ class Structure3D(Assembly):
         if i is not None:
             raise InputError(f"{where}: the frame (n, t1, t2) of {at_point(i)} is not "
                              "orthonormal and right-handed; expected unit normal and tangents")
-        check_friction(where, self.mu, lambda i: f"interface '{self.interfaces[self.point_interface[i]]}'")
+        at_iface = lambda i: f"interface '{self.interfaces[self.point_interface[i]]}'"  # noqa: E731
+        check_friction(where, self.mu, at_iface)
+        check_strengths(where, self.fc, self.ft, self.cohesion, np.ones(self.n_points), at_iface)
+        if self.area is not None:
+            check_finite(where, [("area", self.area, at_point)])
         check_touched(where, self.blocks, *self.interface_blocks())
         check_live(where, bool(np.any(self.live) or np.any(self.live_m)))
         return self

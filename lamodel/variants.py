@@ -28,11 +28,13 @@ def with_friction(structure: Structure, mu: float) -> Structure:
 def with_strengths(structure: Structure, fc: float | None = None, ft: float | None = None,
                    cohesion: float | None = None) -> Structure:
     """A copy of the structure with these strengths on every joint (None: the structure's
-    own; :mod:`lamodel.formulation.joints`), checked (InputError naming the field)."""
+    own; :mod:`lamodel.formulation.joints`; in space on every contact point,
+    :mod:`lamodel.formulation.space`), checked (InputError naming the field)."""
     s = copy.deepcopy(structure)
+    n = s.n_points if getattr(s, "dimension", 2) == 3 else s.n_contacts
     for name, value in (("fc", fc), ("ft", ft), ("cohesion", cohesion)):
         if value is not None:
-            setattr(s, name, np.full(s.n_contacts, float(value)))
+            setattr(s, name, np.full(n, float(value)))
     return s.validate()
 
 

@@ -9,6 +9,12 @@ motions — the mechanism: ``live . u = 1``, openings only where N = 0, slips on
 cone with T along the slip, and the seed's eq. 5, ``alpha = alpha_K = -dead . u +
 sum(-mu N |slip|)``.
 
+With the joints' strengths (columns ``fc``, ``ft``, ``cohesion``, ``area``) each point's
+caps are rebuilt from them: ``-fc area <= N <= ft area``, ``hypot(T1, T2) <= cohesion area
+- mu N``; it opens only at ``N = ft area``, closes only at ``N = -fc area``, and eq. 5
+gains ``ft area qn`` (opening), ``-fc area |qn|`` (closing) and ``(cohesion area - mu N)
+|slip|``.
+
 A folder without a certified state must say so: alpha, every force and every motion empty
 (NaN), every mode ``unknown`` (:func:`uncertified`). summary.csv's ``live_load`` must be
 empty or three numbers (:func:`live_load`), and :func:`live_load_gap` measures how far the
@@ -75,6 +81,9 @@ def check_folder(folder):
         p = _vec(c, ("x", "y", "z"))
         n, t1, t2 = _vec(c, ("nx", "ny", "nz")), _vec(c, ("t1x", "t1y", "t1z")), _vec(c, ("t2x", "t2y", "t2z"))
         N, T1, T2, mu = float(c["N"]), float(c["T1"]), float(c["T2"]), float(c["mu"])
+        area = float(c.get("area") or 0.0)   # dry: no caps, no cohesion
+        low = -float(c["fc"]) * area if c.get("fc") not in (None, "", "inf") else -math.inf
+        high, k = float(c.get("ft") or 0.0) * area, float(c.get("cohesion") or 0.0) * area
         f = [N * n[i] + T1 * t1[i] + T2 * t2[i] for i in range(3)]
         for body, sign in ((c["block_a"], 1.0), (c["block_b"], -1.0)):
             if body in index:
@@ -83,9 +92,9 @@ def check_folder(folder):
                 for r in range(3):
                     fixed[j][r] += sign * f[r]
                     fixed[j][3 + r] += sign * m[r] / size
-        cone = max(cone, math.hypot(T1, T2) + mu * N, N)
+        cone = max(cone, math.hypot(T1, T2) + mu * N - k, N - high, low - N)
         d = [vb - va for vb, va in zip(velocity(c["block_b"], p), velocity(c["block_a"], p))]
-        strains.append((N, T1, T2, mu, _dot(d, n), _dot(d, t1), _dot(d, t2)))
+        strains.append((N, T1, T2, mu, _dot(d, n), _dot(d, t1), _dot(d, t2), low, high, k))
     force_scale = force_scale or 1.0
     equilibrium = max(abs(fixed[k][r] + alpha * live[k][r]) for k in range(len(blocks)) for r in range(6))
     num = sum(fixed[k][r] * live[k][r] for k in range(len(blocks)) for r in range(6))
@@ -97,11 +106,17 @@ def check_folder(folder):
     alpha_k = -sum(_dot(_vec(b, ("dead_x", "dead_y", "dead_z")), motion[k][:3])
                    + _dot(_vec(b, ("dead_mx", "dead_my", "dead_mz")), motion[k][3:]) for k, b in enumerate(blocks))
     opening = flow = 0.0
-    for N, T1, T2, mu, qn, s1, s2 in strains:
+    for N, T1, T2, mu, qn, s1, s2, low, high, k in strains:
         slip = math.hypot(s1, s2)
-        alpha_k += -mu * N * slip
-        opening = max(opening, -qn / scale_u, abs(N * qn) / (force_scale * scale_u))
-        flow = max(flow, abs(-mu * N * slip - (T1 * s1 + T2 * s2)) / (force_scale * scale_u))
+        alpha_k += max(k - mu * N, 0.0) * slip + high * max(qn, 0.0)
+        if qn < 0 and low > -math.inf:   # a crushing point: on its cap, dissipating there
+            alpha_k += low * qn
+            opening = max(opening, min(abs(N - low) / force_scale, 1.0) * -qn / scale_u)
+        else:
+            opening = max(opening, -qn / scale_u)
+        # opening off the tensile cap: the smaller of the motion and its work there
+        opening = max(opening, min(abs(N - high) / force_scale, 1.0) * max(qn, 0.0) / scale_u)
+        flow = max(flow, abs((k - mu * N) * slip - (T1 * s1 + T2 * s2)) / (force_scale * scale_u))
     return {"alpha": alpha, "alpha_fit": -num / den, "equilibrium": equilibrium / force_scale,
             "cone": max(cone, 0.0) / force_scale, "normalisation": abs(normalisation - 1.0),
             "opening": opening, "flow_rule": flow, "virtual_work": abs(alpha_k - alpha) / max(1.0, abs(alpha))}

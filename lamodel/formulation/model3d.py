@@ -22,6 +22,7 @@ from pyomo.core.base.block import BlockData, declare_custom_block
 from pyomo.environ import (ConcreteModel, Constraint, NonNegativeReals, Objective, Param, RangeSet, Set, Var,
                            inequality, minimize)
 
+from ..errors import InputError
 from ..structure3d import Structure3D
 from .model import _row  # noqa: F401  (also registers SolverFactory('lamodel_ipopt'))
 from .space import Formulation3D
@@ -30,8 +31,12 @@ DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
 def declare_limit_analysis3d(b, structure: Structure3D, objective: bool = True):
-    """All components of eq. (5) in space on block b."""
+    """All components of eq. (5) in space on block b (dry joints: InputError for joints
+    with strengths, which the search solves)."""
     s = structure
+    if s.has_materials:
+        raise InputError(f"structure '{s.name}': the Pyomo model in space has dry joints only; expected no fc, ft "
+                         "or cohesion (the search, lamodel solve, takes them)")
     F = b._formulation = Formulation3D.of(s)
     n = s.n_points
     b.BLOCKS = Set(ordered=True, initialize=s.blocks, doc="movable blocks")

@@ -15,6 +15,13 @@ mechanics is written). Conventions are those of :mod:`lamodel.structure3d`:
 * the fictitious cohesive system: cohesion ``c_p = -mu N_p`` of the real statics,
   ``||t_p|| <= c_p``, no dilatancy; its flow rule opens only where ``N = 0`` and slips along
   the tangential force; ``alpha_K = -u^T f0 + sum_p c_p ||slip_p||`` (eq. 5).
+* with the joints' strengths (:meth:`lamodel.structure3d.Structure3D.caps`: per point the
+  crushing force ``N_c = -f_c A``, the tensile force ``N_t = f_t A``, the cohesion force
+  ``k = c0 A``) the real domain is ``N_c <= N <= N_t``, ``||T|| <= k - mu N``; the
+  fictitious system's cohesion is ``c_p = max(k - mu N_p, 0)`` (``c0 A + mu |N|`` at a
+  compressed point: the real cone's radius at the real N), its caps the same and
+  associative: a point opens only at ``N = N_t``, closes (crushes) only at ``N = N_c``,
+  and dissipates ``N_t q_n`` opening, ``N_c q_n`` crushing and ``c_p ||slip||`` sliding.
 """
 from __future__ import annotations
 
@@ -23,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..search.tuning import CAP_FAR
 from ..structure3d import Structure3D
 from .matrices import Statics
 
@@ -65,12 +73,25 @@ def load_vectors(s: Structure3D):
     return f0, fb
 
 
-def kinematic_multiplier(f0, mu, u, q, N) -> float:
+def kinematic_multiplier(f0, mu, u, q, N, caps=None) -> float:
     """alpha_K = -u^T f0 + sum_p c_p ||slip_p|| with c_p = -mu N_p (eq. 5 on the cone):
-    the work of the dead loads plus the dissipation of the fictitious cohesive system."""
+    the work of the dead loads plus the dissipation of the fictitious cohesive system;
+    with the joints' strengths ``caps`` (module doc) that of its caps too."""
     npt = len(mu)
     slip = np.hypot(q[npt:2 * npt], q[2 * npt:])
-    return float(-np.dot(f0, u) - np.sum(mu * N * slip))
+    if caps is None:
+        return float(-np.dot(f0, u) - np.sum(mu * N * slip))
+    crush, tension, k = caps
+    c = np.maximum(k - mu * N, 0.0)
+    return float(-np.dot(f0, u) + np.sum(c * slip) + cap_dissipation(caps, q[:npt]))
+
+
+def cap_dissipation(caps, qn) -> float:
+    """The caps' dissipation ``sum N_t q_n+ + N_c q_n-`` (q_n- = min(q_n, 0); a point
+    without a crushing cap closes by nothing, and contributes nothing)."""
+    crush, tension, _ = caps
+    closing = np.minimum(qn, 0.0)
+    return float(np.sum(tension * np.maximum(qn, 0.0)) + np.sum(np.where(np.isfinite(crush), crush, 0.0) * closing))
 
 
 def gap_weights(mu, q) -> np.ndarray:
@@ -80,6 +101,16 @@ def gap_weights(mu, q) -> np.ndarray:
     npt = len(mu)
     slip = np.hypot(q[npt:2 * npt], q[2 * npt:])
     return np.concatenate([-q[:npt] - mu * slip, -q[npt:2 * npt], -q[2 * npt:]])
+
+
+def gap_constant(caps, mu, q) -> float:
+    """With the joints' strengths, ``alpha_K(N) - alpha = w^T s_f + this`` (w of
+    :func:`gap_weights`): the caps' dissipation and the cohesion forces' ``k ||slip||``."""
+    npt = len(mu)
+    if caps is None:
+        return 0.0
+    slip = np.hypot(q[npt:2 * npt], q[2 * npt:])
+    return float(np.sum(caps[2] * slip)) + cap_dissipation(caps, q[:npt])
 
 
 def scales(s: Structure3D):
@@ -96,10 +127,14 @@ def scaled(s: Structure3D, F: float, L: float) -> Structure3D:
     return Structure3D(
         name=s.name, blocks=s.blocks, centroid=s.centroid / L, dead=s.dead / F, live=s.live / F,
         supports=s.supports, interfaces=s.interfaces, iface_a=s.iface_a, iface_b=s.iface_b,
-        iface_polygon=[p / L for p in s.iface_polygon], point_interface=s.point_interface, point=s.point / L,
+        iface_polygon=[p / L for p in s.iface_polygon], iface_holes=[[h / L for h in hs] for hs in s.iface_holes],
+        point_interface=s.point_interface, point=s.point / L,
         normal=s.normal, tangent1=s.tangent1, tangent2=s.tangent2, mu=s.mu, dead_m=s.dead_m / (F * L),
         live_m=s.live_m / (F * L), volume=s.volume / L ** 3,
-        polyhedra={k: (np.asarray(v) / L, f) for k, (v, f) in s.polyhedra.items()}, units={}, meta=dict(s.meta))
+        polyhedra={k: (np.asarray(v) / L, f) for k, (v, f) in s.polyhedra.items()}, units={}, meta=dict(s.meta),
+        **({} if not s.has_materials else {  # stresses in F / L^2, areas in L^2
+            "fc": s.fc * (L * L / F), "ft": s.ft * (L * L / F), "cohesion": s.cohesion * (L * L / F),
+            "area": s.areas() / (L * L)}))
 
 
 @dataclass
@@ -123,22 +158,50 @@ class Formulation3D(Statics):
     def mu(self) -> np.ndarray:
         return self.structure.mu
 
+    @property
+    def caps(self):
+        """``(N_c, N_t, k)`` per point with the joints' strengths (module doc), else None."""
+        if not self.structure.has_materials:
+            return None
+        if getattr(self, "_caps", None) is None:
+            crush, tension, k = self.structure.caps()
+            # a cap no state reaches is none (CAP_FAR): its row would only spoil the programs' scale
+            loads = np.abs(self.f0).sum() + np.abs(self.fbar).sum()
+            self._caps = (np.where(crush < -CAP_FAR * loads, -np.inf, crush), tension, k)
+        return self._caps
+
     def split(self, s_f):
         """(N, T1, T2) of a statics vector (3 np, or 3 np + 1 with alpha last)."""
         n = self.np
         return s_f[:n], s_f[n:2 * n], s_f[2 * n:3 * n]
+
+    def slip_rows(self, T1, T2, on):
+        """The strain rows ``(Q_n, along, across)`` (``q = Q u``): openings, and at the points
+        ``on`` the slips along and across the tangential force (T1, T2) (0 elsewhere)."""
+        n = self.np
+        At = self.A.T.tocsr()
+        Qn, Q1, Q2 = -At[:n], -At[n:2 * n], -At[2 * n:]
+        Tn = np.hypot(T1, T2)
+        safe = np.where(Tn > 0, Tn, 1.0)
+        h1, h2 = np.where(on, T1 / safe, 0.0), np.where(on, T2 / safe, 0.0)
+        return Qn, sp.diags(h1) @ Q1 + sp.diags(h2) @ Q2, sp.diags(-h2) @ Q1 + sp.diags(h1) @ Q2
 
     def strains(self, u) -> np.ndarray:
         """q = -A^T u: (openings, slips1, slips2) of the mechanism u, stacked by kind."""
         return -(self.A.T @ u)
 
     def kinematic_multiplier(self, u, q, N) -> float:
-        return kinematic_multiplier(self.f0, self.mu, u, q, N)
+        return kinematic_multiplier(self.f0, self.mu, u, q, N, self.caps)
+
+    def gap_constant(self, q) -> float:
+        return gap_constant(self.caps, self.mu, q)
 
     def gap_weights(self, q) -> np.ndarray:
         return gap_weights(self.mu, q)
 
     def cone_slack(self, s_f) -> np.ndarray:
-        """-mu N - ||T|| per point (>= 0 when admissible)."""
+        """-mu N - ||T|| per point (>= 0 when admissible; with cohesion ``k - mu N - ||T||``)."""
         N, T1, T2 = self.split(s_f)
-        return -self.mu * N - np.hypot(T1, T2)
+        if self.caps is None:
+            return -self.mu * N - np.hypot(T1, T2)
+        return self.caps[2] - self.mu * N - np.hypot(T1, T2)

@@ -8,10 +8,12 @@ The 2D format (:mod:`lamodel.io.jsonspec`) with 3-component vertices, z up::
       "units": {"length": "m", "force": "kN"},
       "tolerance": 1e-6,                        # optional, relative to the structure's size
       "contact_points": "vertices",             # or "grid:n" (adds interior points)
+      "fc": 5000, "ft": 0, "cohesion": 0,       # optional: the joints' strengths (stresses)
+      "joints": [ {"between": ["b1", "b2"], "fc": 3000} ],
       "blocks": [ {"id": "b1", "vertices": [[0,0,0], [1,0,0], ...],
                    "faces": [[0, 3, 2, 1], ...],    # optional: default the convex hull
                    "support": false, "dead": [fx,fy,fz], "live": [fx,fy,fz],
-                   "dead_m": [mx,my,mz], "live_m": [mx,my,mz], "mu": 0.5} ],
+                   "dead_m": [mx,my,mz], "live_m": [mx,my,mz], "mu": 0.5, "fc": 4000} ],
       "loads": [ {"block": "b1", "at": [x,y,z], "force": [fx,fy,fz], "kind": "live"} ] }
 
 Faces are vertex loops ordered counter-clockwise seen from outside. The dead load of a
@@ -19,6 +21,13 @@ block is ``unit_weight * volume`` along -z at its centroid; its live load is
 ``live_load * unit_weight * volume``. Point loads add their force and their moment about the
 centroid; when the file gives live point loads but no ``live_load``, alpha multiplies only
 them (and ``meta["live_load"]`` is None: no live load per unit weight was applied). A contact takes the smaller ``mu`` of its two bodies.
+
+The joints' strengths (the point-contact model of :mod:`lamodel.formulation.space`):
+``"fc"`` (compressive strength; omitted: no crushing), ``"ft"`` (tensile strength) and
+``"cohesion"``, stresses in the file's force per length squared, at the top level for every
+interface, on a body for its interfaces (an interface takes the smaller value of its two
+bodies), in ``"joints"`` for every interface of those two bodies. Each contact point
+carries them over its tributary area (:mod:`lamodel.geometry.tributary`).
 
 Readers of other formats (COMPAS assemblies, meshes) produce this same spec, with the
 defaults they applied listed under ``"meta"``; :func:`structure3d_from_spec` builds all of them.
@@ -38,16 +47,21 @@ from ..geometry.polyhedra import polyhedron
 from ..search.tuning import SUPPORT_LEVEL
 from ..structure3d import Structure3D, tangent_frame
 from .joints3d import JointProbe, warn_missed_joints
-from .jsonfields import (blocks_of, body_head, body_support_mu, check_supports, load_spec, number, units, validated,
-                         warn_unknown, writes_live)
+from ..geometry.tributary import areas_in_frame
+from .jsonfields import (blocks_of, body_head, body_support_mu, check_supports, joint_strengths, load_spec, number,
+                         strengths, units, validated, warn_unknown, writes_live)
 
 #: Geometric tolerance relative to the structure's size (diagonal of its bounding box):
 #: loose enough for CAD files written in single precision.
 DEFAULT_TOLERANCE_3D = 1e-6
 
+#: The joints' strengths in space (stresses; no thickness: a point's area is its own).
+STRENGTH_FIELDS_3D = ("fc", "ft", "cohesion")
+STRENGTH_DEFAULTS_3D = {"fc": np.inf, "ft": 0.0, "cohesion": 0.0}
 TOP_FIELDS_3D = ("name", "description", "dimension", "mu", "unit_weight", "live_load", "tolerance", "blocks",
-                 "loads", "units", "contact_points", "meta")
-BODY_FIELDS_3D = ("id", "vertices", "faces", "support", "dead", "live", "dead_m", "live_m", "mu", "description")
+                 "loads", "units", "contact_points", "meta", "joints", *STRENGTH_FIELDS_3D)
+BODY_FIELDS_3D = ("id", "vertices", "faces", "support", "dead", "live", "dead_m", "live_m", "mu", "description",
+                  *STRENGTH_FIELDS_3D)
 
 
 def _vector3(value, where, what):
@@ -65,7 +79,7 @@ def _bodies(spec, where, mu_all):
         support, mu = body_support_mu(body, at, mu_all)
         over = {k: _vector3(body[k], at, f"'{k}'") for k in ("dead", "live", "dead_m", "live_m")
                 if k in body and not support}
-        out.append((bid, body["vertices"], body.get("faces"), support, mu, over))
+        out.append((bid, body["vertices"], body.get("faces"), support, mu, over, strengths(body, at, STRENGTH_FIELDS_3D)))
     if unknown:
         warn_unknown(where, unknown, BODY_FIELDS_3D, "block")
     return out
@@ -188,6 +202,11 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
     t1, t2 = tangent_frame(normal)
     mus = np.array([b[4] for b in bodies])
     iface_mu = np.array([min(mus[f.a], mus[f.b]) for f in interfaces])
+    joints = joint_strengths(spec, where, ids, [b[6] for b in bodies], [f.a for f in interfaces],
+                             [f.b for f in interfaces], STRENGTH_DEFAULTS_3D, STRENGTH_FIELDS_3D)
+    joints = {k: np.repeat(v, count) for k, v in joints.items()}
+    if joints:  # each point's share of its joint
+        joints["area"] = np.concatenate([areas_in_frame(f.shape, f.frame, p) for f, p in zip(interfaces, pts)])
     meta = dict(spec.get("meta") or {})
     meta.setdefault("source", "lamodel JSON")
     meta.update(unit_weight=unit_weight, mu=mu_all, live_load=applied, tolerance=rel_tol,
@@ -197,11 +216,11 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
         supports=[ids[j] for j in np.flatnonzero(is_support)],
         interfaces=[f"i{k + 1}" for k in range(len(interfaces))],
         iface_a=[ids[f.a] for f in interfaces], iface_b=[ids[f.b] for f in interfaces],
-        iface_polygon=[f.polygon for f in interfaces],
+        iface_polygon=[f.polygon for f in interfaces], iface_holes=[list(f.holes) for f in interfaces],
         point_interface=np.repeat(np.arange(len(interfaces)), count),
         point=np.vstack(pts) if pts else np.zeros((0, 3)), normal=normal, tangent1=t1, tangent2=t2,
         mu=np.repeat(iface_mu, count), dead_m=dead_m, live_m=live_m, volume=volume,
-        polyhedra={p.id: (p.vertices, p.faces) for p in polys}, units=units(spec, where), meta=meta)
+        polyhedra={p.id: (p.vertices, p.faces) for p in polys}, units=units(spec, where), meta=meta, **joints)
     return validated(s, where)
 
 

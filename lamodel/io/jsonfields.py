@@ -11,6 +11,8 @@ import math
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import InputError
 from .files import read_text
 
@@ -155,14 +157,52 @@ def validated(structure, where):
 STRENGTH_FIELDS = ("fc", "ft", "cohesion", "thickness")
 
 
-def strengths(obj, at) -> dict:
+def strengths(obj, at, fields=STRENGTH_FIELDS) -> dict:
     """The strengths ``obj`` gives, checked: numbers, fc and thickness > 0, ft and cohesion
     >= 0 (ft <= fc is checked per contact, once they are combined)."""
     out = {}
-    for key in STRENGTH_FIELDS:
+    for key in fields:
         if key in obj:
             value = number(obj[key], at, f"'{key}'", 0.0)
             if key in ("fc", "thickness") and value == 0:
                 raise InputError(f"{at}: '{key}' is 0; expected a number > 0 (omit 'fc' for no crushing)")
             out[key] = value
+    return out
+
+
+def joint_strengths(spec, where, ids, body_strengths, ia, ib, defaults, fields=STRENGTH_FIELDS) -> dict:
+    """Per contact (a planar contact, an interface in space) joining bodies ``ia``, ``ib``
+    (indices into ``ids``), the strengths ``fields``: the file's, a body's (the smaller of
+    the two), a joint's (``"joints": [{"between": [b1, b2], ...}]``, every contact of that
+    pair); ``{}`` when the file gives none (a dry structure). ``defaults``: each field's."""
+    top = strengths(spec, where, fields)
+    joints = spec.get("joints", [])
+    if not isinstance(joints, list):
+        raise InputError(f"{where}: 'joints' is {json.dumps(joints)[:40]}; expected a list of "
+                         "{\"between\": [body, body], ...} objects")
+    if not top and not joints and not any(body_strengths):
+        return {}
+    out = {}
+    for key in fields:
+        value = np.full(len(ia), top.get(key, defaults[key]))
+        for k, (a, b) in enumerate(zip(ia, ib)):
+            given = [x[key] for x in (body_strengths[a], body_strengths[b]) if key in x]
+            if given:
+                value[k] = min(given)
+        out[key] = value
+    pair = {}
+    for k, (a, b) in enumerate(zip(ia, ib)):
+        pair.setdefault(frozenset((ids[a], ids[b])), []).append(k)
+    for pos, joint in enumerate(joints):
+        at = f"{where}: joints[{pos}]"
+        json_object(joint, at, "joint", ("between", *fields))
+        between = joint.get("between")
+        if not (isinstance(between, list) and len(between) == 2 and all(isinstance(x, (str, int)) for x in between)):
+            raise InputError(f"{at}: 'between' is {json.dumps(between)[:40]}; expected the ids of its two bodies")
+        ks = pair.get(frozenset(map(str, between)))
+        if ks is None:
+            raise InputError(f"{at}: '{between[0]}' and '{between[1]}' share no contact; expected two bodies "
+                             "that touch")
+        for key, value in strengths(joint, at, fields).items():
+            out[key][ks] = value
     return out

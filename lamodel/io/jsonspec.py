@@ -78,8 +78,8 @@ import numpy as np
 
 from ..errors import InputError
 from .restraints import restraint_contacts, restraints_of
-from .jsonfields import (STRENGTH_FIELDS, blocks_of, body_head, body_support_mu, check_supports, json_object, load_spec,
-                         number, strengths, units, validated, warn_unknown, writes_live)
+from .jsonfields import (STRENGTH_FIELDS, blocks_of, body_head, body_support_mu, check_supports, joint_strengths,
+                         json_object, load_spec, number, strengths, units, validated, warn_unknown, writes_live)
 from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
 from ..structure import JOINT_DEFAULTS, Structure
 
@@ -90,7 +90,6 @@ DEFAULT_TOLERANCE = 1e-9
 TOP_FIELDS = ("name", "description", "dimension", "mu", "unit_weight", "live_load", "tolerance", "blocks", "loads", "units",
               "rolling_load", "joints", "restraints", *STRENGTH_FIELDS)
 BODY_FIELDS = ("id", "vertices", "support", "dead", "live", "dead_m", "live_m", "mu", "description", *STRENGTH_FIELDS)
-JOINT_FIELDS = ("between", *STRENGTH_FIELDS)
 LOAD_FIELDS = ("block", "at", "force", "kind", "case")
 ROLLING_FIELDS = ("force", "axles", "positions")
 
@@ -199,7 +198,7 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
         live[:] = 0.0  # alpha multiplies only the live loads the file writes
 
     mus = np.asarray(mus)
-    joints = _joint_strengths(spec, where, ids, body_strengths, ia, ib)
+    joints = joint_strengths(spec, where, ids, body_strengths, ia, ib, JOINT_DEFAULTS)
     mu = np.minimum(mus[ia], mus[ib])
     centre, normal, half = contacts["centre"], contacts["normal"], contacts["d"]
     extra = restraint_contacts(spec, where, ids, is_support)
@@ -238,40 +237,6 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
             raise InputError(f"{where}: the file has load cases and a rolling load; expected one or the other "
                              "(a rolling load is a study of its own)")
     return validated(structure, where)
-
-
-def _joint_strengths(spec, where, ids, body_strengths, ia, ib) -> dict:
-    """Per contact, the strengths of the module doc: the file's, a body's (the smaller of
-    the two), a joint's; ``{}`` when the file gives none (a dry structure)."""
-    top = strengths(spec, where)
-    joints = spec.get("joints", [])
-    if not isinstance(joints, list):
-        raise InputError(f"{where}: 'joints' is {json.dumps(joints)[:40]}; expected a list of "
-                         "{\"between\": [body, body], ...} objects")
-    if not top and not joints and not any(body_strengths):
-        return {}
-    out = {}
-    for key in STRENGTH_FIELDS:
-        value = np.full(ia.size, top.get(key, JOINT_DEFAULTS[key]))
-        for k, (a, b) in enumerate(zip(ia, ib)):
-            given = [x[key] for x in (body_strengths[a], body_strengths[b]) if key in x]
-            if given:
-                value[k] = min(given)
-        out[key] = value
-    pair = {frozenset((ids[a], ids[b])): k for k, (a, b) in enumerate(zip(ia, ib))}
-    for pos, joint in enumerate(joints):
-        at = f"{where}: joints[{pos}]"
-        json_object(joint, at, "joint", JOINT_FIELDS)
-        between = joint.get("between")
-        if not (isinstance(between, list) and len(between) == 2 and all(isinstance(x, (str, int)) for x in between)):
-            raise InputError(f"{at}: 'between' is {json.dumps(between)[:40]}; expected the ids of its two bodies")
-        k = pair.get(frozenset(map(str, between)))
-        if k is None:
-            raise InputError(f"{at}: '{between[0]}' and '{between[1]}' share no contact; expected two bodies "
-                             "that touch")
-        for key, value in strengths(joint, at).items():
-            out[key][k] = value
-    return out
 
 
 def _point_loads(spec, where, structure, tol):

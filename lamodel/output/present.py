@@ -109,7 +109,7 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     ``prove``: seconds for the proven lower bound ``alpha_lower`` in summary.csv
     (:func:`lamodel.bound.lower_bound`; default a share of the search's own time).
     ``strengths``: what-ifs ``{"fc", "ft", "cohesion"}`` (None: the file's) on every joint
-    of a planar structure (:func:`lamodel.variants.with_strengths`).
+    of a structure, planar or in space (:func:`lamodel.variants.with_strengths`).
 
     A 3D input (a 3D JSON, a COMPAS assembly, a mesh, or a Structure3D) is solved in space
     (:func:`lamodel.output.present3d.analyse3d`, an :class:`~lamodel.output.present3d.Analysis3D`
@@ -136,17 +136,14 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
     try:
         structure = _read(source, warn, inputs)
         asked = {k: v for k, v in (strengths or {}).items() if v is not None}
+        if asked:
+            from ..variants import with_strengths
+            structure = with_strengths(structure, **asked)
         if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
-            if asked:
-                raise InputError(f"--{next(iter(asked))}: the joints' strengths are solved in the plane only; "
-                                 "expected a planar instance")
             return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
                                        report=report, animate=animate, moving=(rolling, axles, positions),
                                        view=view, echo=echo, prove=prove)
         present3d.refuse_spatial_options(inputs, view)
-        if asked:
-            from ..variants import with_strengths
-            structure = with_strengths(structure, **asked)
         return _analyse(structure, source, options, out, method, seed_ga, picture, report, animate,
                         (rolling, axles, positions), echo, command, painter, prove)
     finally:

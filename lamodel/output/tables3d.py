@@ -12,14 +12,17 @@ Columns, in the order written (the conventions of :mod:`lamodel.structure3d`):
   ``block_a``, ``block_b``, ``x``, ``y``, ``z``, ``nx``, ``ny``, ``nz`` (from a to b),
   ``t1x``, ``t1y``, ``t1z``, ``t2x``, ``t2y``, ``t2z``, ``mu``, ``N``, ``T1``, ``T2``,
   ``mode``. The force ``N n + T1 t1 + T2 t2`` acts on block_a at the point, its opposite
-  on block_b.
+  on block_b. A structure whose joints have strengths adds ``fc``, ``ft``, ``cohesion``
+  (stresses) and ``area`` (the point's tributary area): its caps ``-fc area <= N <= ft
+  area`` and its cone ``hypot(T1, T2) <= cohesion area - mu N``.
 
 Without a certified state the motions and the forces are empty (NaN) and every mode is
 ``unknown``: nothing uncertified is written as if it were known. A point's mode is
 ``opening`` when it separates (whatever its tangential motion: an open point carries no
 force, so it does not slide on anything), else ``sliding`` when it slips, else ``stuck``
 (:func:`lamodel.search.certify3d.point_modes`) — the plane's rule for a contact whose two
-ends separate (``open`` before ``sliding``); a point has no second end to hinge about.
+ends separate (``open`` before ``sliding``); a point has no second end to hinge about. A
+point that closes sits on its crushing cap: ``crushing`` (``crushing+sliding`` if it slips).
 
 With these and alpha every block's equilibrium can be rebuilt from the files alone.
 """
@@ -85,7 +88,11 @@ def contacts_table(s: Structure3D, forces=None, modes=None) -> pd.DataFrame:
     cols["mu"] = s.mu
     cols["N"], cols["T1"], cols["T2"] = f[:, 0], f[:, 1], f[:, 2]
     cols["mode"] = [UNKNOWN] * s.n_points if modes is None else list(modes)
-    return pd.DataFrame(cols, columns=list(CONTACT_COLUMNS3D))
+    extra = []
+    if s.has_materials:  # the joints' strengths and each point's tributary area (caps: fc A, ft A, cohesion A)
+        extra = ["fc", "ft", "cohesion", "area"]
+        cols.update(fc=s.fc, ft=s.ft, cohesion=s.cohesion, area=s.areas())
+    return pd.DataFrame(cols, columns=list(CONTACT_COLUMNS3D) + extra)
 
 
 def contacts_summary(s: Structure3D) -> dict:

@@ -8,7 +8,9 @@ From the block motions u (nb, 6) at the centroids and the mode of every contact 
   (:func:`lamodel.output.motion3d.macro_blocks`, as the pictures colour them); each is a
   rotation about an axis (its direction and a point on it) or a translation;
 * an interface is **opening** when some of its points open (it hinges or lifts off), and
-  **sliding** when some of its points slide and none opens.
+  **sliding** when some of its points slide and none opens;
+* with the joints' strengths, an interface is also **crushing** when some of its points
+  close on their crushing caps (its hinge sits inside the joint).
 """
 from __future__ import annotations
 
@@ -66,7 +68,7 @@ def interface_modes(s: Structure3D, modes) -> dict:
         now = out.get(k, "stuck")
         if m == "opening" or now == "opening":
             out[k] = "opening"
-        elif m == "sliding" or now == "sliding":
+        elif m in ("sliding", "crushing+sliding") or now == "sliding":
             out[k] = "sliding"
         else:
             out[k] = "stuck"
@@ -94,4 +96,8 @@ def describe3d(s: Structure3D, motions, modes) -> list:
         hit = [names[k] for k in s.interfaces if kinds.get(k) == kind]
         if hit:
             lines.append(f"{kind.capitalize()} interfaces ({len(hit)}): {_ids(hit)}")
+    crushed = sorted({int(i) for i, m in zip(s.point_interface, np.asarray(modes).astype(str)) if m.startswith("crushing")})
+    if crushed:
+        hit = [names[s.interfaces[i]] for i in crushed]
+        lines.append(f"Crushing interfaces ({len(hit)}): {_ids(hit)} (points on their crushing caps)")
     return lines

@@ -28,12 +28,13 @@ from scipy.sparse.linalg import splu
 from threadpoolctl import threadpool_limits
 
 from ..formulation.space import Formulation3D
+from . import caps3d
 from .highs import INF, HighsLP
 from .tuning import (ALIGN_DONE, ALIGN_FACETS, ALIGN_ROUND_OFF, ALIGN_STEPS, ALIGN_TURN, CONTACT_TOL, FAN, FAN_COST,
                      FLOW_TOL, MECHANISM_POLISH_COLUMNS, POLISH_NEWTON_STEPS, PROJECTION_REFINEMENTS, PYRAMID_FACETS,
                      RESIDUAL_TOLERANCE)
 
-MODES = ("stuck", "opening", "sliding")
+MODES = ("stuck", "opening", "sliding", "crushing", "crushing+sliding")
 
 
 @dataclass
@@ -48,6 +49,7 @@ class CollapseState3D:
     q: np.ndarray          # (3 np) openings, slips1, slips2: q = -A^T u
     source: str = ""
     residual: dict = field(default_factory=dict)
+    crushable: np.ndarray | None = None   # (np,) points with a crushing cap (None: none)
 
     @property
     def forces(self) -> np.ndarray:
@@ -61,22 +63,26 @@ class CollapseState3D:
     @property
     def modes(self) -> np.ndarray:
         """Per point: 'stuck', 'opening' or 'sliding' (see :func:`point_modes`)."""
-        return point_modes(self.q)
+        return point_modes(self.q, crushable=self.crushable)
 
 
-def point_modes(q, tol=FLOW_TOL) -> np.ndarray:
+def point_modes(q, tol=FLOW_TOL, crushable=None) -> np.ndarray:
     """'opening' where the point opens, 'sliding' where it slips without opening, else
     'stuck'; motions below ``tol`` of the largest strain are none. Opening comes first,
     whatever the tangential motion: an open point has left its contact (N = T = 0), so
     its tangential motion is no frictional slip. The plane's rule is the same (a contact
     whose two ends separate is ``open``, not ``sliding``); its ``sliding+hinging`` is a
-    contact turning about one end that stays in touch, which a point has not."""
+    contact turning about one end that stays in touch, which a point has not. A closing
+    point of those ``crushable`` (with a crushing cap): 'crushing' (or 'crushing+sliding')."""
     npt = len(q) // 3
     qn, slip = q[:npt], np.hypot(q[npt:2 * npt], q[2 * npt:])
     U = max(np.abs(q).max() if q.size else 0.0, 1e-300)
     out = np.full(npt, MODES[0], dtype=object)
     out[slip > tol * U] = MODES[2]
     out[qn > tol * U] = MODES[1]
+    if crushable is not None:
+        down = (qn < -tol * U) & crushable
+        out[down] = np.where(slip > tol * U, MODES[4], MODES[3])[down]
     return out
 
 
@@ -91,8 +97,11 @@ def residuals(form: Formulation3D, N, T1, T2, alpha, u, q) -> dict:
     equilibrium (eq. 2), the cone (``||T|| <= -mu N``), compatibility ``q = -A^T u``, the
     normalisation ``fbar^T u = 1``, openings >= 0, opening only where ``N = 0``, slip only
     on the cone and along T (the cohesive flow rule: ``c ||slip|| - T.slip = 0`` with
-    ``c = -mu N``; 0 exactly when both hold) and ``alpha = alpha_K`` (eq. 5).
+    ``c = -mu N``; 0 exactly when both hold) and ``alpha = alpha_K`` (eq. 5). With the
+    joints' strengths: :func:`lamodel.search.caps3d.residuals`.
     """
+    if form.caps is not None:
+        return caps3d.residuals(form, N, T1, T2, alpha, u, q)
     L = form.structure.size()
     mu = form.mu
     npt = len(N)
@@ -162,7 +171,10 @@ def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, facet
 def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     """A mechanism (u, q) compatible with the statics (N, T): q = 0 inside the cone, slip
     along T (within FAN radians) without opening on it, opening >= 0 (any slip) where
-    N = 0; ``fbar^T u = 1``; the one of least alpha_K. None if there is none."""
+    N = 0; ``fbar^T u = 1``; the one of least alpha_K. None if there is none. With the
+    joints' strengths: :func:`lamodel.search.caps3d.mechanism_lp`."""
+    if form.caps is not None:
+        return caps3d.mechanism_lp(form, N, T1, T2, tol)
     npt, nb = form.np, form.nb
     mu = form.mu
     scale = max(np.abs(N).max(), 1e-300)
@@ -171,12 +183,8 @@ def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     cone = ~zero & (-mu * N - Tn <= tol * scale)
     stuck = ~(zero | cone)
     At = form.A.T.tocsr()
-    Qn, Q1, Q2 = -At[:npt], -At[npt:2 * npt], -At[2 * npt:]
-    safe = np.where(Tn > 0, Tn, 1.0)
-    h1, h2 = np.where(cone, T1 / safe, 0.0), np.where(cone, T2 / safe, 0.0)
-    D = sp.diags
-    along = D(h1) @ Q1 + D(h2) @ Q2
-    across = D(-h2) @ Q1 + D(h1) @ Q2
+    Q1, Q2 = -At[npt:2 * npt], -At[2 * npt:]
+    Qn, along, across = form.slip_rows(T1, T2, cone)
     iz, ic, ist = np.flatnonzero(zero), np.flatnonzero(cone), np.flatnonzero(stuck)
     t = np.tan(FAN)
     rows = sp.vstack([Qn[iz], Qn[ic], (across - t * along)[ic], (across + t * along)[ic], along[ic],

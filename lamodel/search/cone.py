@@ -13,6 +13,11 @@ Columns are the statics ``x = (N, T1, T2, alpha)`` of :mod:`lamodel.formulation.
   opening points at ``N = T = 0``, sliding points at ``T = -mu N s_hat`` (on the cone,
   along the slip). With ``w`` the gap weights of a mechanism it is the gap step; with the
   flowing points held and ``w = 0`` it is the statics half of the certification.
+
+With the joints' strengths (:attr:`~lamodel.formulation.space.Formulation3D.caps`) every
+point's N lies between its crushing and tensile forces ``N_c <= N <= N_t`` (linear rows)
+and its cone's radius gains the cohesion force k (``||T|| <= k - mu N``); held points:
+opening at ``N = N_t``, crushing at ``N = N_c``, sliding at ``T = (k - mu N) s_hat``.
 """
 from __future__ import annotations
 
@@ -72,11 +77,11 @@ class ConePrograms:
         self._soc_N = sp.csr_matrix((form.mu, (3 * idx, idx)), shape=(3 * n, self.nx))
 
     # ------------------------------------------------------------------ building
-    def _solve(self, cost, rows_zero, b_zero, rows_nonneg, soc_rows, soc_b, n_soc, time_limit=None):
-        """min cost^T x subject to rows_zero x = b_zero, rows_nonneg x <= 0 (s = -Gx >= 0) and
-        SOC blocks of 3 rows (s = soc_b - soc_rows x in the cone)."""
+    def _solve(self, cost, rows_zero, b_zero, rows_nonneg, soc_rows, soc_b, n_soc, time_limit=None, b_nonneg=None):
+        """min cost^T x subject to rows_zero x = b_zero, rows_nonneg x <= b_nonneg (0 if
+        None; s = b - Gx >= 0) and SOC blocks of 3 rows (s = soc_b - soc_rows x in the cone)."""
         G = sp.vstack([rows_zero, rows_nonneg, soc_rows]).tocsc()
-        b = np.concatenate([b_zero, np.zeros(rows_nonneg.shape[0]), soc_b])
+        b = np.concatenate([b_zero, np.zeros(rows_nonneg.shape[0]) if b_nonneg is None else b_nonneg, soc_b])
         cones = [clarabel.ZeroConeT(rows_zero.shape[0]), clarabel.NonnegativeConeT(rows_nonneg.shape[0])]
         cones += [clarabel.SecondOrderConeT(3)] * n_soc
         settings = clarabel.DefaultSettings()
@@ -110,21 +115,48 @@ class ConePrograms:
         alpha = sp.csr_matrix(([-1.0], ([0], [self.nx - 1])), shape=(1, self.nx))
         return sp.vstack([rows, alpha])
 
+    def _capped(self, may_open=None, may_crush=None):
+        """With the joints' strengths: rows ``N <= N_t`` (every point, or ``may_open``),
+        ``-N <= -N_c`` (the points with a crushing cap, or those of ``may_crush``) and
+        alpha >= 0, and their right-hand sides."""
+        n = self.np
+        crush, tension, _ = self.form.caps
+        up = np.arange(n) if may_open is None else np.flatnonzero(may_open)
+        down = np.isfinite(crush) if may_crush is None else np.isfinite(crush) & np.asarray(may_crush, bool)
+        down = np.flatnonzero(down)
+        k = up.size + down.size
+        rows = sp.csr_matrix((np.r_[np.ones(up.size), -np.ones(down.size), -1.0],
+                              (np.arange(k + 1), np.r_[up, down, self.nx - 1])), shape=(k + 1, self.nx))
+        return rows, np.r_[tension[up], -crush[down], 0.0]
+
+    def _radius(self):
+        """The cones' radii at N = 0: the cohesion forces (0 without strengths)."""
+        out = np.zeros(3 * self.np)
+        if self.form.caps is not None:
+            out[0::3] = self.form.caps[2]
+        return out
+
     # ------------------------------------------------------------------ programs
     def associative(self, time_limit=None) -> ConeResult:
         """max alpha over S (the Coulomb cone at every point)."""
         cost = np.zeros(self.nx)
         cost[-1] = -1.0
+        if self.form.caps is not None:
+            rows, b = self._capped()
+            return self._solve(cost, self.E, -self.form.f0, rows, self._soc_N + self._soc_T, self._radius(), self.np,
+                               time_limit, b_nonneg=b)
         return self._solve(cost, self.E, -self.form.f0, self._nonneg(), self._soc_N + self._soc_T,
                            np.zeros(3 * self.np), self.np, time_limit)
 
-    def cohesive(self, c, may_open=None, may_slip=None, time_limit=None, dilatancy=0.0) -> ConeResult:
+    def cohesive(self, c, may_open=None, may_slip=None, time_limit=None, dilatancy=0.0, may_crush=None) -> ConeResult:
         """alpha_as(c): max alpha with ||T_p|| <= c_p and N_p <= 0; u is its mechanism.
 
         ``may_open`` / ``may_slip`` (bool, np) restrict the mechanism: a point that may not
         open has its N free (the dual then gives it no opening), one that may not slip its
         T free (no slip). ``dilatancy`` t: ``||T_p|| <= c_p - t mu N_p`` (the cone of
-        friction t mu widened by the cohesion), whose mechanism's slips dilate by t mu."""
+        friction t mu widened by the cohesion), whose mechanism's slips dilate by t mu.
+        With the joints' strengths c includes the cohesion forces and N lies between the
+        caps (``may_open``, ``may_crush``: the points whose cap may flow)."""
         n = self.np
         c = np.maximum(np.asarray(c, float), 0.0)
         cost = np.zeros(self.nx)
@@ -134,14 +166,22 @@ class ConePrograms:
         b[0::3] = c
         keep = np.flatnonzero(np.repeat(slip, 3))
         soc = self._soc_T if dilatancy == 0 else self._soc_T + dilatancy * self._soc_N
+        if self.form.caps is not None:
+            rows, bn = self._capped(may_open, may_crush)
+            return self._solve(cost, self.E, -self.form.f0, rows, soc[keep], b[keep], int(slip.sum()), time_limit,
+                               b_nonneg=bn)
         return self._solve(cost, self.E, -self.form.f0, self._nonneg(may_open), soc[keep], b[keep],
                            int(slip.sum()), time_limit)
 
-    def statics(self, w=None, opening=None, sliding=None, slide_dir=None, time_limit=None) -> ConeResult:
+    def statics(self, w=None, opening=None, sliding=None, slide_dir=None, time_limit=None,
+                crushing=None) -> ConeResult:
         """min alpha + w^T s_f over S with points held: ``opening`` (bool, np) at N = T = 0,
         ``sliding`` (bool, np) at T = -mu N s_hat with ``slide_dir`` (np, 2) the unit slip
-        directions in the points' frames."""
+        directions in the points' frames (with the joints' strengths: the module doc;
+        ``crushing`` at N = N_c)."""
         n = self.np
+        if self.form.caps is not None:
+            return self._capped_statics(w, opening, sliding, slide_dir, time_limit, crushing)
         cost = np.zeros(self.nx)
         cost[-1] = 1.0
         if w is not None:
@@ -156,16 +196,47 @@ class ConePrograms:
             zero.append(sp.csr_matrix((np.ones(cols.size), (np.arange(cols.size), cols)), shape=(cols.size, self.nx)))
         isl = np.flatnonzero(sliding)
         if isl.size:  # T_k + mu N s_k = 0, k = 1, 2
-            d = np.asarray(slide_dir, float)[isl]
-            mu = self.form.mu[isl]
-            r = np.arange(isl.size)
-            for k in (0, 1):
-                zero.append(sp.csr_matrix((np.concatenate([np.ones(isl.size), mu * d[:, k]]),
-                                           (np.concatenate([r, r]), np.concatenate([(1 + k) * n + isl, isl]))),
-                                          shape=(isl.size, self.nx)))
+            zero += self._slide_rows(isl, slide_dir)
         Z = sp.vstack(zero)
         bz = np.concatenate([-self.form.f0, np.zeros(Z.shape[0] - self.E.shape[0])])
         keep = np.repeat(free, 3)
         soc = (self._soc_N + self._soc_T)[np.flatnonzero(keep)]
         return self._solve(cost, Z, bz, self._nonneg(~opening), soc, np.zeros(soc.shape[0]), int(free.sum()),
                            time_limit)
+
+    def _slide_rows(self, isl, slide_dir):
+        """The rows ``T_j + mu N s_j`` (j = 1, 2) of the sliding points ``isl`` along their
+        unit slips ``slide_dir`` (np, 2)."""
+        n = self.np
+        d = np.asarray(slide_dir, float)[isl]
+        mu = self.form.mu[isl]
+        r = np.arange(isl.size)
+        return [sp.csr_matrix((np.concatenate([np.ones(isl.size), mu * d[:, j]]),
+                               (np.concatenate([r, r]), np.concatenate([(1 + j) * n + isl, isl]))),
+                              shape=(isl.size, self.nx)) for j in (0, 1)]
+
+    def _capped_statics(self, w, opening, sliding, slide_dir, time_limit, crushing):
+        """:meth:`statics` with the joints' strengths: opening points at ``N = N_t``,
+        crushing ones at ``N = N_c``, sliding ones at ``T = (k - mu N) s_hat``; every
+        point keeps its cone and its caps."""
+        n = self.np
+        crush, tension, k = self.form.caps
+        cost = np.zeros(self.nx)
+        cost[-1] = 1.0
+        if w is not None:
+            cost[:3 * n] = w
+        held = [np.zeros(n, bool) if m is None else np.asarray(m, bool) for m in (opening, crushing, sliding)]
+        opening, crushing, sliding = held
+        crushing = crushing & ~opening & np.isfinite(crush)
+        zero, bz = [self.E], [-self.form.f0]
+        for pts, value in ((opening, tension), (crushing, crush)):
+            idx = np.flatnonzero(pts)
+            zero.append(sp.csr_matrix((np.ones(idx.size), (np.arange(idx.size), idx)), shape=(idx.size, self.nx)))
+            bz.append(value[idx])
+        isl = np.flatnonzero(sliding)
+        if isl.size:  # T_j + mu N s_j = k s_j, j = 1, 2
+            zero += self._slide_rows(isl, slide_dir)
+            bz += [k[isl] * np.asarray(slide_dir, float)[isl, j] for j in (0, 1)]
+        rows, bn = self._capped()
+        return self._solve(cost, sp.vstack(zero), np.concatenate(bz), rows, self._soc_N + self._soc_T,
+                           self._radius(), n, time_limit, b_nonneg=bn)

@@ -357,6 +357,11 @@ CRUSHING_FACETS = 16
 CRUSHING_FLOOR = 1e-7
 CRUSHING_FAN_RATIO = 16.0
 
+# ------------------------------------------------------------- joints' strengths in space
+#: A crushing cap beyond this many times the loads' size (dead and live forces' sum) is
+#: never reached: left out of the programs (an infinite f_c); the state is checked against every cap.
+CAP_FAR = 1e6
+
 # ===================================================================== bridges
 #: Lead-axle positions of a bridge's load when its file gives none: evenly across the span,
 #: springing to springing (lamodel.bridges.description).

@@ -146,11 +146,3 @@ def test_study_varies_the_compressive_strength():
     assert np.all(variant.fc == 20) and not s.has_materials
     with pytest.raises(InputError, match="vary.fc has -1; expected compressive strengths > 0"):
         study_from_dict({"name": "x", "vary": {"fc": [10, -1]}}, s, where="spec")
-
-
-
-def test_strengths_in_space_are_refused(tmp_path, capsys):
-    assert command("solve", [str(INSTANCES / "facade.json"), "--fc", "5", "--out", str(tmp_path / "o"),
-                             "--no-plot"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "--fc" in err and "plane only" in err and len(err.splitlines()) == 1

@@ -7,7 +7,7 @@ Its pieces, in the order the algorithm runs them (each an object handed the ones
    form, the fictitious cohesive LP whose duals are a mechanism, the way back to the
    user's units (:mod:`.strengths` where joints crush, take tension or have cohesion);
    :mod:`.problem3d` in space — Clarabel's cone programs on the Coulomb cone
-   and exact certification LPs on fixed cones;
+   and exact certification LPs on fixed cones (:mod:`.capped3d` where joints have strengths);
 2. :mod:`.record` — the best certified state so far, its history, the phase times;
 3. :mod:`.certify` — the certificate of a mechanism (the formulation's held statics,
    then the residual test), and its cache;
@@ -38,6 +38,7 @@ from .fitness import Fitness
 from .lanes import Lanes
 from .near import Near
 from .problem import ScaledProblem
+from .capped3d import CappedConeProblem
 from .problem3d import ConeProblem
 from .program import GapProgram
 from .record import Record
@@ -51,9 +52,12 @@ FORMULATIONS = {Structure: ScaledProblem, Structure3D: ConeProblem}
 
 def formulation_of(structure):
     """The :class:`~lamodel.search.gap.program.GapProgram` class that formulates ``structure`` (planar or in space;
-    a planar one whose joints have strengths: :class:`~.strengths.StrengthProblem`)."""
+    a planar one whose joints have strengths: :class:`~.strengths.StrengthProblem`, one in
+    space: :class:`~.capped3d.CappedConeProblem`)."""
     if isinstance(structure, Structure) and structure.has_materials:
         return StrengthProblem
+    if isinstance(structure, Structure3D) and structure.has_materials:
+        return CappedConeProblem
     for kind, program in FORMULATIONS.items():
         if isinstance(structure, kind):
             return program

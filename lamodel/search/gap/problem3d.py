@@ -23,6 +23,8 @@ along the tangential force); a mechanism's flows ``xi`` are its openings and sli
   where none holds, the same with the sliding directions aligned
   (:func:`~lamodel.search.certify3d.align`).
 
+With the joints' strengths: :class:`~.capped3d.CappedConeProblem`.
+
 No warm bases: an interior-point program starts cold (``lps`` is empty).
 """
 from __future__ import annotations
@@ -64,6 +66,7 @@ class ConeProblem:
         self.nb, self.np = self.form.nb, self.form.np
         self.nc = self.np            # one cohesion a contact point
         self.mu = self.form.mu
+        self.caps = self.form.caps   # (N_c, N_t, k) per point with the joints' strengths, else None
         self.lps = {}                # no warm bases
         self.lps_elsewhere = 0
         self.work_elsewhere = 0      # the cone work of evaluations merged from elsewhere
@@ -130,18 +133,19 @@ class ConeProblem:
         if maximize:
             res = self._ran(self.cone.associative(time_limit=self._left()), "associative")
         else:
-            opening = sliding = dirs = None
+            opening = sliding = dirs = crushing = None
             if held is not None and held.any():
-                opening, sliding = self._split(held)
-                sliding = sliding & ~opening
+                opening, sliding, crushing = self._split(held)
+                sliding = sliding if self.caps is not None else sliding & ~opening
                 dirs = self._directions(u)
             res = self._ran(self.cone.statics(cost_lam, opening=opening, sliding=sliding, slide_dir=dirs,
-                                              time_limit=self._left()), "statics")
+                                              time_limit=self._left(), crushing=crushing), "statics")
         return res.status, (res.x if res.ok else None)
 
     def _split(self, rows):
-        rows = np.asarray(rows, bool)
-        return rows[:self.np], rows[self.np:]
+        """(opening, sliding, crushing) rows (crushing: none without the joints' strengths)."""
+        rows, n = np.asarray(rows, bool), self.np
+        return rows[:n], rows[n:2 * n], (rows[2 * n:] if self.caps is not None else np.zeros(n, bool))
 
     def _directions(self, u):
         """(np, 2) unit slips of the mechanism u in the points' frames ((1, 0) where none)."""
@@ -172,11 +176,20 @@ class ConeProblem:
         """w (3 np) with ``w^T x = alpha_K - alpha`` for the mechanism u, at the points xi
         flows at (openings of a conic mechanism are >= 0 up to its tolerance; a mechanism of
         dilatancy t without the opening t mu ||slip|| its slips cause: the same gap)."""
+        return self.form.gap_weights(self._moving_strains(xi, u))
+
+    def _moving_strains(self, xi, u):
+        """The strains of u at the points xi flows at (openings >= 0; with the caps, the
+        normal strain only where an opening or crushing row flows: a cap times a closing
+        of the conic tolerance is no dissipation)."""
         n = self.np
         q = self._strains(u)
-        q[:n] = np.maximum(q[:n], 0.0)
-        moving = np.tile(xi[:n] + xi[n:] > 0, 3)
-        return self.form.gap_weights(np.where(moving, q, 0.0))
+        if self.caps is None:
+            q[:n] = np.maximum(q[:n], 0.0)
+        else:
+            q[:n] = np.where((xi[:n] > 0) | (xi[2 * n:] > 0), q[:n], 0.0)
+        moving = np.tile(xi.reshape(-1, n).sum(axis=0) > 0, 3)
+        return np.where(moving, q, 0.0)
 
     def gap(self, x, xi, u=None):
         """alpha_K - alpha of the statics x for the mechanism (u, xi) (eq. 5)."""
@@ -208,10 +221,11 @@ class ConeProblem:
         """The cohesive program for cohesions c (>= 0), flow allowed on rows ``allowed``
         only: (status, alpha_as, statics, u, xi), ``fbar^T u = 1``. ``dilatancy`` t > 0:
         the system whose slips dilate by t mu, friction t mu besides the cohesions."""
-        c = np.maximum(np.asarray(c, float), 0.0)
-        may_open = may_slip = None
+        c = np.asarray(c, float)
+        c = np.maximum(c, 0.0) if self.caps is None else np.maximum(c + self.caps[2], 0.0)
+        may_open = may_slip = may_crush = None
         if allowed is not None:
-            may_open, may_slip = self._split(allowed)
+            may_open, may_slip, may_crush = self._split(allowed)
         # the same program again (a descent's two tolerances, the chain's first step after
         # a mechanism step): its answer, not another interior-point solve of seconds
         key = c.tobytes() + (b"" if allowed is None else np.asarray(allowed, bool).tobytes()) + bytes(
@@ -219,7 +233,8 @@ class ConeProblem:
         res = self._solved.get(key)
         if res is None:
             res = self._ran(self.cone.cohesive(c, may_open=may_open, may_slip=may_slip, time_limit=self._left(),
-                                               dilatancy=dilatancy), "cohesive" if allowed is None else "cohesive-r")
+                                               dilatancy=dilatancy, **({} if self.caps is None else {"may_crush": may_crush})),
+                            "cohesive" if allowed is None else "cohesive-r")
             self._solved = {key: res} | dict(list(self._solved.items())[:MECHANISMS_REMEMBERED - 1])
         if not res.ok:
             return res.status, np.nan, None, None, None
@@ -262,7 +277,7 @@ class ConeProblem:
             return
         entry = self._mechanisms.get(id(u))
         c = entry[1] if entry is not None and entry[0] is u else None
-        flow_open, flow_slip = self._split(flow)
+        flow_open, flow_slip, _ = self._split(flow)
         qn, slip = q[:n], np.hypot(q[n:2 * n], q[2 * n:])
         tried = set()
         first = None  # the first pattern whose exact motion keeps its modes
@@ -279,7 +294,7 @@ class ConeProblem:
             first = first or (opening, sliding, exact)
             held = np.concatenate([opening, sliding])
             for tag, x in self._held_statics(opening, sliding, self._directions(exact)):
-                yield x, exact, np.where(held, self.flows(exact, 0.0), 0.0), held, "+certify-" + tag
+                yield x, exact, np.where(held, self.flows(exact, 0.0)[:held.size], 0.0), held, "+certify-" + tag
         if first is None or c is None or not first[1].any():
             return
         # the alignment's first LP tells in a dozen interior-point iterations that a pattern
@@ -318,7 +333,7 @@ class ConeProblem:
             return
         held = np.concatenate([opening, sliding])
         for tag, x in self._held_statics(opening, sliding, got[0]):
-            yield x, moved, np.where(held, self.flows(moved, 0.0), 0.0), held, "+align-" + tag
+            yield x, moved, np.where(held, self.flows(moved, 0.0)[:held.size], 0.0), held, "+align-" + tag
 
     def _exact_motion(self, u, opening, sliding, c):
         """The nearest exact motion with only ``opening`` and ``sliding`` points moving
@@ -402,6 +417,6 @@ class ConeProblem:
         q = st.q * L / (F * L)
         out = CollapseState3D(alpha=st.alpha, N=st.N * F, T1=st.T1 * F, T2=st.T2 * F, u=u, q=q, source=st.source)
         out.residual = residuals(self.user_form, out.N, out.T1, out.T2, out.alpha, out.u, out.q)
-        out.flow, out.xi = st.flow.copy(), st.xi * L / (F * L)
+        out.flow, out.xi, out.crushable = st.flow.copy(), st.xi * L / (F * L), st.crushable
         return out
 

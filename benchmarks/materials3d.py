@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""The joints' strengths in space (the point-contact model): convergence and cost.
+
+    python benchmarks/materials3d.py
+
+1. A 2 x 1 x 4 box on the ground (unit weight: W = 8), f_c = 16, mu = 5, its base's
+   points the vertices or a ``grid:n``: alpha against the planar stress block's
+   (B/2 - W / (2 f_c b)) / (H/2) = 0.375, and the points' count and time.
+2. Structures in space (a running-bond wall panel, a barrel vault, a dome, the facade
+   instance): dry, f_c = 10^9 (every cap far: the capped programs) and two finite f_c
+   (multiples of the weight over the supports' interface area), alpha and time with the
+   defaults. A measurement, not a test: the tests assert the values
+   (tests/materials/test_joints3d.py).
+"""
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from lamodel.geometry.generators3d import barrel_vault, dome, wall_panel  # noqa: E402
+from lamodel.io import read  # noqa: E402
+from lamodel.io.json3d import structure3d_from_spec  # noqa: E402
+from lamodel.search.search3d import solve3d  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+A, B, H, FC = 2.0, 1.0, 4.0, 16.0
+
+
+def cuboid(x0, y0, z0, x1, y1, z1):
+    return [[x, y, z] for z in (z0, z1) for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+
+
+def grid_table():
+    exact = (A / 2 - A * B * H / (2 * FC * B)) / (H / 2)
+    rows = []
+    for points in ("vertices", "grid:2", "grid:4", "grid:8", "grid:16"):
+        spec = {"name": "box", "dimension": 3, "mu": 5.0, "fc": FC, "contact_points": points, "blocks": [
+            {"id": "ground", "support": True, "vertices": cuboid(-2, -1, -0.5, 2, 1, 0)},
+            {"id": "B", "vertices": cuboid(-A / 2, -B / 2, 0, A / 2, B / 2, H)}]}
+        s = structure3d_from_spec(spec)
+        t = time.perf_counter()
+        r = solve3d(s)
+        rows.append({"contact points": points, "points": s.n_points, "alpha": round(r.alpha, 6),
+                     "stress block": exact, "error": f"{(r.alpha - exact) / exact:+.2e}",
+                     "seconds": round(time.perf_counter() - t, 2)})
+    return pd.DataFrame(rows)
+
+
+def reference_stress(s):
+    """The blocks' weight over the area of the interfaces on supports."""
+    on_support = np.isin(np.asarray(s.iface_a)[s.point_interface], s.supports)
+    return float(-s.dead[:, 2].sum() / s.areas()[on_support].sum())
+
+
+def structures():
+    yield structure3d_from_spec(wall_panel(length=2.4, courses=8))
+    yield structure3d_from_spec(barrel_vault(n_voussoirs=9))
+    yield structure3d_from_spec(dome(n_rings=4, n_per_ring=8))
+    yield read(ROOT / "instances" / "facade.json")
+
+
+def structure_table():
+    rows = []
+    for s in structures():
+        sigma = reference_stress(s)
+        dry_time = None
+        for label, fc in (("dry", None), ("fc 1e9", 1e9), ("fc 20 sigma", 20 * sigma), ("fc 5 sigma", 5 * sigma)):
+            v = s if fc is None else replace(s, fc=np.full(s.n_points, fc), area=s.areas())
+            t = time.perf_counter()
+            r = solve3d(v)
+            sec = time.perf_counter() - t
+            dry_time = dry_time or sec
+            rows.append({"structure": s.name, "blocks": s.n_blocks, "points": s.n_points, "joints": label,
+                         "fc": np.nan if fc is None else round(fc, 4), "alpha": r.alpha, "status": r.status,
+                         "seconds": round(sec, 2), "x dry": round(sec / dry_time, 1)})
+            print(pd.DataFrame(rows[-1:]).to_string(index=False, header=len(rows) == 1), flush=True)
+    return pd.DataFrame(rows)
+
+
+def main():
+    print(grid_table().to_string(index=False), flush=True)
+    print()
+    table = structure_table()
+    print()
+    print(table.to_string(index=False))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,232 @@
+"""Joints with strengths in space (the point-contact model): closed forms on a box on the
+ground, the dry answers kept, inputs with one-line errors, contacts.csv's caps checked by
+the oracle rebuilt from the CSV columns, tributary areas.
+
+The box a x b x h (weight W, its base's four corners, each of tributary area a b / 4)
+under a horizontal load alpha W at its centroid, mu large. Moments about the base's
+centre: alpha W h / 2 = (P_f - P_b) a / 2 with P_f + P_b = W, P_f the two front (rocking
+edge) points' compression, P_b the back two's. The most alpha has P_f as large as the caps
+allow: P_f <= P_c = 2 f_c a b / 4 (crushing) and P_b >= -P_t = -2 f_t a b / 4 (tension), so
+
+    alpha = (2 min(W + P_t, P_c) - W) a / (W h),
+
+a / h dry (P_c infinite, P_t = 0); with W > P_c the front points crush and the block sinks
+about the back edge (the dissipation P_c a against the dead load's W a / 2 and the load's
+alpha W h / 2); with W > 2 P_c it cannot stand. Sliding with cohesion c0: every point
+carries ``c0 a b / 4 + mu |N_i|``, so alpha = (mu W + c0 a b) / W. A point takes tension
+only under its cone's apex: ``N <= c0 A / mu``, so the tension test gives it cohesion
+``c0 >= mu f_t``.
+"""
+import json
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from builders3d import box_on_ground, stack_of_boxes, transformed
+from oracle3d import violations
+from lamodel.cli import command
+from lamodel.errors import InputError
+from lamodel.geometry.tributary import point_areas
+from lamodel.io.json3d import structure3d_from_spec
+from lamodel.search.search3d import solve3d
+
+A, B, H, W = 2.0, 1.0, 4.0, 1.0
+
+
+def solve(s):
+    return solve3d(s, time_limit=120)
+
+
+def strong(s, **k):
+    """The structure with these strengths on every point (the rest the structure's)."""
+    return replace(s, **{key: np.full(s.n_points, float(v)) for key, v in k.items()}, area=None).validate()
+
+
+def rocking(fc=np.inf, ft=0.0):
+    Pc, Pt = fc * A * B / 2, ft * A * B / 2
+    return (2 * min(W + Pt, Pc) - W) * A / (W * H)
+
+
+# ====================================================================== closed forms
+@pytest.mark.parametrize("fc", [np.inf, 10.0, 0.8, 0.6])
+def test_box_rocking_with_crushing(fc):
+    s = box_on_ground(A, B, H, mu=5.0)
+    r = solve(s if np.isinf(fc) else strong(s, fc=fc))
+    assert r.state is not None
+    assert r.alpha == pytest.approx(rocking(fc), abs=1e-7)
+    modes = list(r.state.modes)
+    if fc * A * B / 2 < W:   # the rocking edge's points sit on their caps
+        front = s.point[:, 0] > 0
+        assert all(m == "crushing" for m, f in zip(modes, front) if f) and r.alpha < A / H
+        assert np.allclose(r.state.N[front], -fc * A * B / 4)
+
+
+def test_box_that_crushes_under_its_own_weight_is_unstable():
+    r = solve(strong(box_on_ground(A, B, H, mu=5.0), fc=0.45))   # W > 2 P_c = 0.9
+    assert r.status == "unstable" and r.state is None
+    assert "with dry joints it stands" in r.message and "crush" in r.message
+
+
+@pytest.mark.parametrize("c0", [0.0, 0.1, 0.3])
+def test_box_sliding_with_cohesion(c0):
+    mu = 0.3
+    r = solve(strong(box_on_ground(A, B, 0.2, mu=mu), cohesion=c0))
+    assert r.state is not None and r.alpha == pytest.approx((mu * W + c0 * A * B) / W, abs=1e-7)
+    assert set(r.state.modes) == {"sliding"}
+
+
+@pytest.mark.parametrize("ft", [0.05, 0.1])
+def test_tension_raises_alpha(ft):
+    mu = 5.0
+    r = solve(strong(box_on_ground(A, B, H, mu=mu), ft=ft, cohesion=mu * ft))
+    assert r.state is not None and r.alpha == pytest.approx(rocking(ft=ft), abs=1e-7)
+    assert r.alpha > A / H
+
+
+def test_units_scale_the_stresses():
+    """Lengths times 3, forces times 7: stresses times 7 / 9, the same alpha."""
+    s = box_on_ground(A, B, H, mu=5.0)
+    base = solve(strong(s, fc=0.8)).alpha
+    t = transformed(s, length=3.0, force=7.0)
+    assert solve(strong(t, fc=0.8 * 7 / 9)).alpha == pytest.approx(base, rel=1e-7)
+
+
+# ================================================================ the dry answers kept
+def test_huge_strengths_give_the_dry_alpha():
+    """fc = 1e9 (every cap far) solved by the capped programs: the dry alpha."""
+    for s in (box_on_ground(A, B, H, mu=5.0), box_on_ground(A, B, 0.2, mu=0.3), stack_of_boxes(3, 1.0, 1.0, 0.8)):
+        dry, capped = solve(s), solve(strong(s, fc=1e9))
+        assert capped.state is not None
+        assert capped.alpha == pytest.approx(dry.alpha, rel=1e-7, abs=1e-9)
+
+
+def box_spec(**top):
+    return {"name": "box", "dimension": 3, "mu": 5.0, **top, "blocks": [
+        {"id": "ground", "support": True, "vertices": cuboid(-2, -1, -0.5, 2, 1, 0)},
+        {"id": "B", "vertices": cuboid(-A / 2, -B / 2, 0, A / 2, B / 2, H)}]}
+
+
+def cuboid(x0, y0, z0, x1, y1, z1):
+    return [[x, y, z] for z in (z0, z1) for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+
+
+def test_zero_strengths_write_today_s_files(tmp_path):
+    """A file with "ft": 0 and "cohesion": 0 (and no fc) is the dry structure: the same
+    result files, byte for byte (but the command line in the summary)."""
+    out = []
+    for k, extra in enumerate(({}, {"ft": 0, "cohesion": 0})):
+        f = tmp_path / f"box{k}.json"
+        f.write_text(json.dumps(box_spec(**extra)))
+        assert command("solve", [str(f), "--out", str(tmp_path / f"o{k}"), "--no-plot", "--quiet"]) == 0
+        out.append(tmp_path / f"o{k}")
+    for name in ("contacts.csv", "blocks.csv"):
+        assert (out[0] / name).read_bytes() == (out[1] / name).read_bytes()
+    a, b = (pd.read_csv(o / "summary.csv") for o in out)
+    assert a["alpha"][0] == b["alpha"][0] and a["alpha"][0] == pytest.approx(A / H)
+
+
+# ============================================================= inputs, outputs, oracle
+def test_json_strengths_top_body_joint_and_areas():
+    d = box_spec(fc=50.0, cohesion=0.2)
+    d["blocks"].append({"id": "C", "vertices": cuboid(-A / 2, -B / 2, H, A / 2, B / 2, 2 * H), "fc": 30.0})
+    d["joints"] = [{"between": ["B", "C"], "ft": 0.1}]
+    s = structure3d_from_spec(d)
+    top = s.point_interface == s.iface_b.index("C")
+    assert np.all(s.fc[~top] == 50) and np.all(s.fc[top] == 30) and np.all(s.cohesion == 0.2)
+    assert np.all(s.ft[top] == 0.1) and np.all(s.ft[~top] == 0)
+    assert np.allclose(s.areas(), A * B / 4)
+
+
+@pytest.mark.parametrize("field, value, words", [
+    ("fc", -1, "'fc'"), ("fc", 0, "'fc' is 0"), ("cohesion", "x", "'cohesion'"), ("ft", -0.5, "'ft'")])
+def test_bad_values_name_the_field(field, value, words):
+    with pytest.raises(InputError, match=words):
+        structure3d_from_spec(box_spec(**{field: value}))
+
+
+def test_bad_values_on_the_command_line(tmp_path, capsys):
+    f = tmp_path / "box.json"
+    f.write_text(json.dumps(box_spec(fc=1.0, ft=2.0)))
+    assert command("solve", [str(f), "--out", str(tmp_path / "o"), "--no-plot"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "ft" in err and "fc" in err and len(err.splitlines()) == 1
+    with pytest.warns(UserWarning, match="fcc"):
+        structure3d_from_spec(box_spec(fcc=3.0))
+
+
+def test_contacts_csv_caps_and_the_oracle(tmp_path):
+    """--fc on a 3D file: contacts.csv gains fc, ft, cohesion, area and the crushing
+    mode; the oracle, rebuilding the caps from those columns, finds the state exact."""
+    f = tmp_path / "box.json"
+    f.write_text(json.dumps(box_spec()))
+    o = tmp_path / "o"
+    assert command("solve", [str(f), "--out", str(o), "--no-plot", "--quiet", "--fc", "6"]) == 0
+    c = pd.read_csv(o / "contacts.csv")
+    assert {"fc", "ft", "cohesion", "area"} <= set(c.columns) and np.allclose(c["area"], A * B / 4)
+    assert (c["mode"] == "crushing").sum() == 2
+    weight = A * B * H   # unit weight 1: P_c = 6 < W = 8
+    assert pd.read_csv(o / "summary.csv")["alpha"][0] == pytest.approx((2 * 6 - weight) * A / (weight * H), abs=1e-7)
+    assert violations(o) == []
+    c["fc"] = np.where(c["mode"] == "crushing", 0.9 * c["fc"], c["fc"])   # a cap the forces exceed: the oracle sees it
+    c.to_csv(o / "contacts.csv", index=False)
+    assert any(v.startswith("cone") for v in violations(o))
+
+
+def test_tributary_areas():
+    rect = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0.0]])
+    assert np.allclose(point_areas([rect], [0] * 4, rect), 0.5)
+    inner = np.array([[x, y, 0.0] for x in (-0.5, 0.5) for y in (-0.25, 0.25)])
+    a = point_areas([rect], [0] * 8, np.vstack([rect, inner]))
+    assert a.sum() == pytest.approx(2.0) and np.all(a[4:] > a[:4])
+    hole = np.array([[-0.2, -0.1, 0], [0.2, -0.1, 0], [0.2, 0.1, 0], [-0.2, 0.1, 0.0]])
+    assert point_areas([rect], [0] * 4, rect, [[hole]]).sum() == pytest.approx(2.0 - 0.08)
+
+
+def test_grid_points_converge_to_the_stress_block():
+    """The box with a grid:n base (fc = 16, W = 8): alpha tends to the planar stress
+    block's (A / 2 - W / (2 fc B)) / (H / 2) = 0.375 as n grows (the docs' table)."""
+    exact = (A / 2 - A * B * H / (2 * 16.0 * B)) / (H / 2)
+    errors = []
+    for n in (4, 8, 16):
+        s = structure3d_from_spec(box_spec(fc=16.0, contact_points=f"grid:{n}"))
+        r = solve(s)
+        assert r.state is not None
+        errors.append(abs(r.alpha - exact) / exact)
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-3
+
+
+def test_turned_mirrored_renumbered_give_the_same_alpha():
+    """The crushing stack of three boxes turned, mirrored and its blocks and points
+    renumbered: the same alpha (uniform strengths, so each point keeps its own)."""
+    s = stack_of_boxes(3, 1.0, 1.0, 0.8, mu=5.0)
+    base = solve(strong(s, fc=5.0)).alpha
+    c, t = np.cos(0.7), np.sin(0.7)
+    turn = np.array([[c, -t, 0], [t, c, 0], [0, 0, 1.0]])
+    mirror = np.diag([-1.0, 1.0, 1.0])
+    rng = np.random.default_rng(3)
+    for R in (turn, mirror @ turn):
+        moved = transformed(s, R, block_order=rng.permutation(s.n_blocks), point_order=rng.permutation(s.n_points))
+        assert solve(strong(moved, fc=5.0)).alpha == pytest.approx(base, rel=1e-7)
+
+
+def test_the_pyomo_model_in_space_refuses_strengths():
+    from lamodel.formulation.model3d import create_model3d
+    with pytest.raises(InputError, match="dry joints only"):
+        create_model3d(strong(box_on_ground(A, B, H), fc=1.0))
+
+
+def test_a_tension_state_passes_the_oracle(tmp_path):
+    """--ft with the cohesion mu ft on the box file (W = 8): the back points open at their
+    tensile caps, alpha = (W + 2 P_t) a / (W h), and the oracle finds the state exact."""
+    f = tmp_path / "box.json"
+    f.write_text(json.dumps(box_spec()))
+    o = tmp_path / "o"
+    assert command("solve", [str(f), "--out", str(o), "--no-plot", "--quiet", "--ft", "0.1", "--cohesion", "0.5"]) == 0
+    weight, Pt = A * B * H, 0.1 * A * B / 2
+    assert pd.read_csv(o / "summary.csv")["alpha"][0] == pytest.approx((weight + 2 * Pt) * A / (weight * H), abs=1e-7)
+    c = pd.read_csv(o / "contacts.csv")
+    opening = c["mode"] == "opening"
+    assert opening.sum() == 2 and np.allclose(c["N"][opening], 0.1 * A * B / 4)
+    assert violations(o) == []
