@@ -113,9 +113,9 @@ def test_unknown_fields_warn_in_one_line_each_and_the_solve_goes_on(tmp_path, ca
     assert status == 0 and "alpha = 0.250000" in out
     assert err.strip().splitlines() == [
         f"lamodel solve: warning: {path}: unknown top-level field(s) 'colour' ignored; known fields are name, "
-        "description, dimension, mu, unit_weight, live_load, tolerance, blocks, loads, units, contact_points, meta",
+        "description, dimension, mu, unit_weight, live_load, tolerance, blocks, loads, units, contact_points, meta, joints, fc, ft, cohesion",
         f"lamodel solve: warning: {path}: unknown block field(s) 'weight' ignored; known fields are id, vertices, "
-        "faces, support, dead, live, dead_m, live_m, mu, description"]
+        "faces, support, dead, live, dead_m, live_m, mu, description, fc, ft, cohesion"]
 
 
 def test_in_a_process_of_its_own_the_status_is_2_and_no_traceback(tmp_path):
