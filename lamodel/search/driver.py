@@ -306,10 +306,10 @@ def _polish(engine, pool, plan, archive, runs, opt, budget, progress):
                 rows[i] = _certify_ipopt(engine, fut, i, st)
     except Stopped:
         pass
-    for fut in pending:  # left to _shutdown (cancelled, or their workers killed)
-        i, st = futures[fut]
-        rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
-                      status="interrupted" if budget.asked() else "time limit")
+    for fut, (i, st) in futures.items():  # pending: left to _shutdown (cancelled, or their workers
+        if i not in rows:                 # killed); done: its point's certification was stopped
+            rows[i] = Run(i, f"ipopt from {st.source} (alpha {st.alpha:.6f})",
+                          status="interrupted" if budget.asked() else "time limit")
     runs.extend(rows[i] for i in sorted(rows))
     for i in sorted(rows):
         log.info("Ipopt start %d (%s): %s, certified alpha %.6f", i, rows[i].source, rows[i].status,
