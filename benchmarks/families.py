@@ -250,6 +250,9 @@ def _run(spec, all_methods, total_work, queue):
             if np.isfinite(r.alpha_certified) and not (least <= r.alpha_certified):
                 least = r.alpha_certified
     row["least"] = least
+    # seconds of each phase and lane of the search (the plan's names), for the lane table
+    row["phases"] = json.dumps({k: round(v, 4) for k, v in o.phases.items()})
+    row["search_seconds"] = total
     queue.put(row)
 
 
@@ -288,6 +291,25 @@ def summarise(df):
     return pd.DataFrame(rows)
 
 
+def lane_table(df):
+    """Per lane of the plan: on how many cases (and families) its state was the final best
+    (runs.csv's ``path``), on how many it ran, and its median and largest share of the
+    search's seconds where it ran (phases timed in the search's own thread; lanes beside
+    it on engines of their own are counted in the phase that waits for them)."""
+    import pandas as pd
+    ok = df[df.status == "certified"]
+    best = ok.groupby("path").agg(best_cases=("case", "size"), best_families=("family", "nunique"))
+    shares = {}
+    for _, r in df.iterrows():
+        if not isinstance(r.get("phases"), str):
+            continue
+        for name, sec in json.loads(r["phases"]).items():
+            shares.setdefault(name, []).append(sec / max(r["search_seconds"], 1e-9))
+    timed = pd.DataFrame([dict(lane=k, ran=len(v), share_median=float(np.median(v)), share_max=max(v))
+                          for k, v in shares.items()])
+    return best.reset_index().rename(columns={"path": "lane (path of the best)"}), timed
+
+
 def main(argv=None):
     import pandas as pd
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -299,6 +321,8 @@ def main(argv=None):
     ap.add_argument("--total-work", type=float, default=None,
                     help="the driver's TOTAL_WORK for this run (default: lamodel.search.tuning's; inf: no bound), "
                          "to show the bound's effect across the families")
+    ap.add_argument("--lanes", action="store_true",
+                    help="also print the lane table: which lane gave the final best, and each phase's share of the time")
     ap.add_argument("--csv", default=str(ROOT / "results" / "families.csv"))
     ap.add_argument("--write", metavar="DIR", help="write each case's structure file (CASE.json) to DIR, solve none "
                     "(then: lamodel solve DIR/CASE.json)")
@@ -331,6 +355,10 @@ def main(argv=None):
     df.to_csv(args.csv, index=False)
     with pd.option_context("display.width", 200, "display.max_columns", 20):
         print(summarise(df).to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        if args.lanes:
+            best, timed = lane_table(df)
+            print(best.to_string(index=False))
+            print(timed.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
     print(f"cases: {args.csv}")
 
 
