@@ -4,12 +4,14 @@ adequacy factor, a mirrored bridge giving the same one, every state an independe
 accepts."""
 import json
 
+import numpy as np
 import pytest
 
 from oracle import check_state
 
 from lamodel.bridges import bridge_spec, read_bridge
 from lamodel.bridges.adequacy import adequacy_study, structure_of
+from lamodel.errors import InputError
 from lamodel.loads import case_structure
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.search.unstable import dead_load_mechanism
@@ -140,3 +142,36 @@ def test_a_pointed_arch_loaded_at_mirrored_points_gives_the_same_alpha():
     table = adequacy_study(b, LP_ONLY)
     assert table["certified"].all()
     assert table["adequacy"].iloc[0] == pytest.approx(table["adequacy"].iloc[1], rel=1e-6)
+
+
+def test_a_weaker_ring_crushes_sooner_and_a_strong_one_barely_at_all():
+    """The ring's fc bounds every ring joint: alpha falls as fc falls, and tends to the
+    no-crushing alpha as fc grows."""
+    free = alpha(bridge())
+    strong, mid, weak = (alpha(bridge(ring={"fc": fc})) for fc in (1e6, 5000.0, 1000.0))
+    assert weak < mid < free
+    assert strong <= free * (1 + 1e-6) and strong == pytest.approx(free, rel=1e-2)
+
+
+def test_the_rings_strength_reaches_every_ring_joint_and_no_restraint():
+    b = bridge(ring={"fc": 3000.0})
+    s = structure_of(b)
+    joints = len(s.fc) - s.restraints
+    ring = s.fc[:joints]
+    # ring joints and the two seats on the abutments: voussoirs + 1 contacts, all at the ring's fc
+    assert np.sum(np.isclose(ring, 3000.0)) == b.voussoirs + 1
+    assert not np.any(np.isclose(s.fc[joints:], 3000.0))     # the passive restraints keep their own bound
+    assert "fc 3000" in bridge_spec(b)["description"]
+
+
+@pytest.mark.parametrize("fc", [0, -5, "strong"])
+def test_a_bad_crushing_strength_names_its_field(fc):
+    with pytest.raises(InputError, match="ring: 'fc'"):
+        bridge(ring={"fc": fc})
+
+
+def test_a_source_must_be_text_and_is_carried_into_the_description():
+    b = bridge(source={"span": "Page 1988"})
+    assert "span: Page 1988" in bridge_spec(b)["description"]
+    with pytest.raises(InputError, match="'source'"):
+        bridge(source={"span": 6})
