@@ -3,6 +3,7 @@ the fill's dead load alone carried, the passive restraint and the fill each rais
 adequacy factor, a mirrored bridge giving the same one, every state an independent oracle
 accepts."""
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -175,3 +176,18 @@ def test_a_source_must_be_text_and_is_carried_into_the_description():
     assert "span: Page 1988" in bridge_spec(b)["description"]
     with pytest.raises(InputError, match="'source'"):
         bridge(source={"span": 6})
+
+
+def test_a_single_ring_under_a_quarter_span_load_fails_by_four_hinges():
+    """The mechanism column counts the ring's hinges (not the fill's restraints): Heyman's
+    four-hinge mechanism, and with a finite fc every hinge turns about a crushed zone."""
+    assert adequacy_study(bridge(), LP_ONLY)["mechanism"].tolist() == ["4 hinges"]
+    assert adequacy_study(bridge(ring={"fc": 3000.0}), LP_ONLY)["mechanism"].tolist() == ["4 hinges (all crushing)"]
+
+
+@pytest.mark.parametrize("name", ["prestwood", "preston", "torksey", "shinafoot"])
+def test_every_trl_bridge_says_where_its_geometry_comes_from(name):
+    b = read_bridge(Path(__file__).resolve().parents[2] / "instances" / f"bridge_{name}.json")
+    for key in ("span", "rise", "width", "ring.thickness", "fill.depth", "shape", "load.positions", "measured"):
+        assert key in b.source, key
+        assert b.source[key].startswith(("Page 19", "not sourced")), (key, b.source[key])
