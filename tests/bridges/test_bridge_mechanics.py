@@ -191,3 +191,14 @@ def test_every_trl_bridge_says_where_its_geometry_comes_from(name):
     for key in ("span", "rise", "width", "ring.thickness", "fill.depth", "shape", "load.positions", "measured"):
         assert key in b.source, key
         assert b.source[key].startswith(("Page 19", "not sourced")), (key, b.source[key])
+
+
+def test_the_same_bridge_in_millimetres_and_newtons_has_the_same_adequacy_factor():
+    """Units (metamorphic): lengths x 1000, forces x 1000, unit weights kN/m^3 -> N/mm^3
+    (x 1e-6), the crushing strength kPa -> N/mm^2 (x 1e-3): the same alpha."""
+    metres = bridge(ring={"fc": 3000.0})
+    mm = {"name": "b", "units": {"length": "mm", "force": "N"}, "span": 6000.0, "rise": 1500.0, "width": 1000.0,
+          "ring": {"thickness": 300.0, "voussoirs": 16, "unit_weight": 20e-6, "mu": 0.6, "fc": 3.0},
+          "fill": {"depth": 400.0, "unit_weight": 18e-6, "phi": 35.0, "passive": 0.33}, "backing": {"height": 0.0},
+          "load": {"force": 50e3, "patch": 200.0, "positions": [-1500.0]}}
+    assert alpha(read_bridge(mm), x=-1500.0) == pytest.approx(alpha(metres), rel=1e-6)
