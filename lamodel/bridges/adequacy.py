@@ -1,6 +1,7 @@
 """The adequacy factor of a bridge against the load's position: the certified collapse
 multiplier of the axle group at each lead-axle position (each a load case of the built
-structure), the least governing; as a table and a plot."""
+structure), the least governing, with its mechanism in the terms of the arch-bridge tests
+(how many hinges, how many of them crush, how many joints slide); as a table and a plot."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -8,13 +9,14 @@ from pathlib import Path
 import pandas as pd
 
 from ..io.jsonspec import structure_from_spec
+from ..output.modes import SLIDING, TURNING, modes_from_flow
 from ..search.options import SolveOptions
 from ..studies import load_case_study
 from .build import bridge_spec, case_positions
 from .description import Bridge
 
 #: Columns of :func:`adequacy_study`.
-COLUMNS = ("position", "adequacy", "collapse_load", "certified", "status", "governing", "seconds")
+COLUMNS = ("position", "adequacy", "collapse_load", "certified", "status", "governing", "mechanism", "seconds")
 
 
 def structure_of(bridge: Bridge, passive: bool = True):
@@ -26,12 +28,34 @@ def adequacy_study(bridge: Bridge, options: SolveOptions | None = None, passive:
                    progress=None) -> pd.DataFrame:
     """One row per position: the adequacy factor (alpha_c of the axle group), the collapse
     load per axle (alpha_c times the axle's force), whether certified; the least governs."""
-    df, _ = load_case_study(structure_of(bridge, passive), options, progress)
+    df, outcomes = load_case_study(structure_of(bridge, passive), options, progress)
     where = case_positions(bridge)
     out = pd.DataFrame({"position": df["case"].map(where), "adequacy": df["alpha_c"],
                         "collapse_load": df["alpha_c"] * bridge.force, "certified": df["certified"],
-                        "status": df["status"], "governing": df["governing"], "seconds": df["seconds"]})
+                        "status": df["status"], "governing": df["governing"],
+                        "mechanism": [mechanism(outcomes.get(c)) for c in df["case"]], "seconds": df["seconds"]})
     return out[list(COLUMNS)]
+
+
+def mechanism(outcome) -> str:
+    """The collapse mechanism as the bridge tests report it: hinges (joints that turn),
+    how many of them crush, joints that slide — the ring's, backing's and abutments'
+    joints, not the fill's restraints; "-" without a certified mechanism."""
+    if outcome is None or outcome.best is None:
+        return "-"
+    s = outcome.structure
+    joints = modes_from_flow(s, outcome.best.xi)[:s.n_contacts - s.restraints]
+    hinges = sum(m in TURNING for m in joints)
+    crushing = sum("crushing" in m for m in joints)
+    sliding = sum(m in SLIDING for m in joints)
+    words = [f"{hinges} hinge{'s' if hinges != 1 else ''}"]
+    if crushing and crushing == hinges:   # a finite fc: every hinge turns about a crushed zone
+        words[0] += " (all crushing)"
+    elif crushing:
+        words.append(f"{crushing} crushing")
+    if sliding:
+        words.append(f"{sliding} sliding")
+    return ", ".join(words)
 
 
 def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder) -> list:

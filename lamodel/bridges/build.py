@@ -37,14 +37,17 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
         if live:   # a position whose axles all stand beyond the springings loads no block
             cases[x] = live
             loads += live
+    crushing = f", fc {bridge.fc:g}" if bridge.fc is not None else ", no crushing"
     skew = f", skew {bridge.skew:g} deg (not modelled)" if bridge.skew else ""
     text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: span "
             f"{bridge.span:g}, rise {bridge.rise:g}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
-            f"{bridge.voussoirs} voussoirs), width {bridge.width:g}{skew}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
+            f"{bridge.voussoirs} voussoirs{crushing}), width {bridge.width:g}{skew}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
             f"unit weight {bridge.fill_weight:g}, phi {bridge.phi:g} deg, lateral {bridge.lateral} "
             f"(K = {lateral_coefficient(bridge):.4g}), passive {bridge.passive:g} K_p "
             f"(K_p = {passive_coefficient(bridge.phi):.4g}){'' if passive else ' left out'}, spread "
             f"{bridge.spread:g} deg; {len(bridge.axles)} axle(s) of {bridge.force:g}, patch {bridge.patch:g}.")
+    if bridge.source:
+        text += " Sources: " + "; ".join(f"{k}: {v}" for k, v in bridge.source.items()) + "."
     spec = {"name": bridge.name, "description": text, "mu": bridge.mu,
             "unit_weight": bridge.masonry_weight * bridge.width, "thickness": bridge.width}
     if bridge.units:

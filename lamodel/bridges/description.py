@@ -3,7 +3,8 @@ checked: every bad value is one line naming its field::
 
     {"name": "prestwood", "units": {"length": "m", "force": "kN"},
      "span": 6.55, "rise": 1.43, "width": 3.8,
-     "ring": {"thickness": 0.22, "rings": 1, "voussoirs": 30, "unit_weight": 20, "mu": 0.6},
+     "ring": {"thickness": 0.22, "rings": 1, "voussoirs": 30, "unit_weight": 20, "mu": 0.6,
+              "fc": 5000},
      "abutments": {"height": 1.0, "width": 1.5}, "backing": {"height": 0.6},
      "fill": {"depth": 0.2, "unit_weight": 18, "phi": 37, "lateral": "at_rest",
               "passive": 0.33, "spread": 30},
@@ -19,7 +20,11 @@ backing is masonry blocks over the haunches up to ``height`` above the springing
 ``load`` is an axle group (``force`` per axle, line loads across the width, each on a patch
 ``patch`` long on the road surface; ``axles``: offsets of the axles from the lead one) at
 each lead-axle position of ``positions`` (default: across the span,
-:data:`~lamodel.search.tuning.BRIDGE_POSITIONS` of them).
+:data:`~lamodel.search.tuning.BRIDGE_POSITIONS` of them). The ring's ``fc`` is its masonry's
+compressive strength (force per length squared; omitted: no crushing), which bounds every
+joint of the ring and its seats on the abutments (:mod:`lamodel.formulation.joints`).
+``source`` (text, or an object of field -> citation) records where the numbers come from;
+it is carried into the built file's description, never read as a value.
 """
 from __future__ import annotations
 
@@ -30,9 +35,9 @@ from dataclasses import dataclass, field
 from ..errors import InputError
 from ..io.jsonfields import json_object, load_spec, number, units
 
-TOP_FIELDS = ("name", "description", "units", "shape", "span", "rise", "width", "skew", "ring", "abutments", "backing", "fill", "load")
+TOP_FIELDS = ("name", "description", "source", "units", "shape", "span", "rise", "width", "skew", "ring", "abutments", "backing", "fill", "load")
 BACKING_FIELDS = ("height",)
-RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu")
+RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu", "fc")
 ABUTMENT_FIELDS = ("height", "width", "kind")
 #: Abutments: rigid supports, or masonry blocks free to slide and turn on a rigid ground.
 ABUTMENT_KINDS = ("rigid", "block")
@@ -61,6 +66,7 @@ class Bridge:
     voussoirs: int = 24              # per ring
     masonry_weight: float = 20.0     # unit weight of the ring (force / length^3)
     mu: float = 0.6                  # friction of the ring's joints
+    fc: float | None = None          # the ring's compressive strength (None: no crushing)
     abutment_height: float = 1.0
     abutment_width: float = 1.0
     abutment_kind: str = "rigid"
@@ -77,6 +83,7 @@ class Bridge:
     positions: tuple | None = None   # lead axle abscissas
     units: dict = field(default_factory=dict)
     description: str = ""
+    source: dict = field(default_factory=dict)   # field -> where its value comes from
 
     @property
     def radius(self) -> float:
@@ -157,7 +164,9 @@ def read_bridge(source) -> Bridge:
                rings=_whole(ring, "rings", at, 1, 1), voussoirs=_whole(ring, "voussoirs", at, 24, 3),
                masonry_weight=_positive(ring, "unit_weight", at, Bridge.masonry_weight),
                mu=_positive(ring, "mu", at, Bridge.mu, strict=False),
-               units=units(spec, where), description=str(spec.get("description", "")))
+               fc=_positive(ring, "fc", at, None) if "fc" in ring else None,
+               units=units(spec, where), description=str(spec.get("description", "")),
+               source=_source(spec, where))
     if b.shape == "pointed" and b.voussoirs % 2:
         raise InputError(f"{at}: 'voussoirs' is {b.voussoirs}; expected an even number for a pointed arch (a joint "
                          "at the apex)")
@@ -181,6 +190,17 @@ def read_bridge(source) -> Bridge:
     if "load" in spec:
         _read_load(b, json_object(spec["load"], f"{where}: load", "'load'", LOAD_FIELDS), f"{where}: load")
     return b
+
+
+def _source(spec: dict, where: str) -> dict:
+    """The file's ``source``: an object of field -> citation, or one text for all."""
+    value = spec.get("source", {})
+    if isinstance(value, str):
+        return {"all": value}
+    if not isinstance(value, dict) or not all(isinstance(v, str) for v in value.values()):
+        raise InputError(f"{where}: 'source' is {json.dumps(value)[:40]}; expected a text or an object of "
+                         "field -> citation")
+    return dict(value)
 
 
 def _read_fill(b: Bridge, fill: dict, at: str):

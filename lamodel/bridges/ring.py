@@ -64,9 +64,11 @@ def voussoirs(bridge: Bridge) -> list:
         inner = joint_points(bridge, k * bridge.thickness / bridge.rings)
         outer = joint_points(bridge, (k + 1) * bridge.thickness / bridge.rings)
         for i in range(bridge.voussoirs):
-            out.append({"id": voussoir_id(bridge, k, i),
-                        "vertices": [inner[i].tolist(), inner[i + 1].tolist(), outer[i + 1].tolist(),
-                                     outer[i].tolist()]})
+            block = {"id": voussoir_id(bridge, k, i),
+                     "vertices": [inner[i].tolist(), inner[i + 1].tolist(), outer[i + 1].tolist(), outer[i].tolist()]}
+            if bridge.fc is not None:   # a contact takes the smaller fc of its two bodies: every ring joint crushes
+                block["fc"] = bridge.fc
+            out.append(block)
     return out
 
 

@@ -3,13 +3,16 @@ the fill's dead load alone carried, the passive restraint and the fill each rais
 adequacy factor, a mirrored bridge giving the same one, every state an independent oracle
 accepts."""
 import json
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 from oracle import check_state
 
 from lamodel.bridges import bridge_spec, read_bridge
 from lamodel.bridges.adequacy import adequacy_study, structure_of
+from lamodel.errors import InputError
 from lamodel.loads import case_structure
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.search.unstable import dead_load_mechanism
@@ -140,3 +143,62 @@ def test_a_pointed_arch_loaded_at_mirrored_points_gives_the_same_alpha():
     table = adequacy_study(b, LP_ONLY)
     assert table["certified"].all()
     assert table["adequacy"].iloc[0] == pytest.approx(table["adequacy"].iloc[1], rel=1e-6)
+
+
+def test_a_weaker_ring_crushes_sooner_and_a_strong_one_barely_at_all():
+    """The ring's fc bounds every ring joint: alpha falls as fc falls, and tends to the
+    no-crushing alpha as fc grows."""
+    free = alpha(bridge())
+    strong, mid, weak = (alpha(bridge(ring={"fc": fc})) for fc in (1e6, 5000.0, 1000.0))
+    assert weak < mid < free
+    assert strong <= free * (1 + 1e-6) and strong == pytest.approx(free, rel=1e-2)
+
+
+def test_the_rings_strength_reaches_every_ring_joint_and_no_restraint():
+    b = bridge(ring={"fc": 3000.0})
+    s = structure_of(b)
+    joints = len(s.fc) - s.restraints
+    ring = s.fc[:joints]
+    # ring joints and the two seats on the abutments: voussoirs + 1 contacts, all at the ring's fc
+    assert np.sum(np.isclose(ring, 3000.0)) == b.voussoirs + 1
+    assert not np.any(np.isclose(s.fc[joints:], 3000.0))     # the passive restraints keep their own bound
+    assert "fc 3000" in bridge_spec(b)["description"]
+
+
+@pytest.mark.parametrize("fc", [0, -5, "strong"])
+def test_a_bad_crushing_strength_names_its_field(fc):
+    with pytest.raises(InputError, match="ring: 'fc'"):
+        bridge(ring={"fc": fc})
+
+
+def test_a_source_must_be_text_and_is_carried_into_the_description():
+    b = bridge(source={"span": "Page 1988"})
+    assert "span: Page 1988" in bridge_spec(b)["description"]
+    with pytest.raises(InputError, match="'source'"):
+        bridge(source={"span": 6})
+
+
+def test_a_single_ring_under_a_quarter_span_load_fails_by_four_hinges():
+    """The mechanism column counts the ring's hinges (not the fill's restraints): Heyman's
+    four-hinge mechanism, and with a finite fc every hinge turns about a crushed zone."""
+    assert adequacy_study(bridge(), LP_ONLY)["mechanism"].tolist() == ["4 hinges"]
+    assert adequacy_study(bridge(ring={"fc": 3000.0}), LP_ONLY)["mechanism"].tolist() == ["4 hinges (all crushing)"]
+
+
+@pytest.mark.parametrize("name", ["prestwood", "preston", "torksey", "shinafoot"])
+def test_every_trl_bridge_says_where_its_geometry_comes_from(name):
+    b = read_bridge(Path(__file__).resolve().parents[2] / "instances" / f"bridge_{name}.json")
+    for key in ("span", "rise", "width", "ring.thickness", "fill.depth", "shape", "load.positions", "measured"):
+        assert key in b.source, key
+        assert b.source[key].startswith(("Page 19", "not sourced")), (key, b.source[key])
+
+
+def test_the_same_bridge_in_millimetres_and_newtons_has_the_same_adequacy_factor():
+    """Units (metamorphic): lengths x 1000, forces x 1000, unit weights kN/m^3 -> N/mm^3
+    (x 1e-6), the crushing strength kPa -> N/mm^2 (x 1e-3): the same alpha."""
+    metres = bridge(ring={"fc": 3000.0})
+    mm = {"name": "b", "units": {"length": "mm", "force": "N"}, "span": 6000.0, "rise": 1500.0, "width": 1000.0,
+          "ring": {"thickness": 300.0, "voussoirs": 16, "unit_weight": 20e-6, "mu": 0.6, "fc": 3.0},
+          "fill": {"depth": 400.0, "unit_weight": 18e-6, "phi": 35.0, "passive": 0.33}, "backing": {"height": 0.0},
+          "load": {"force": 50e3, "patch": 200.0, "positions": [-1500.0]}}
+    assert alpha(read_bridge(mm), x=-1500.0) == pytest.approx(alpha(metres), rel=1e-6)
