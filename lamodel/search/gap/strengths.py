@@ -34,6 +34,7 @@ from ...formulation.matrices import joint_area
 from ...structure import Structure
 from ..highs import INF, HighsLP
 from ..options import Deadline
+from ..tuning import LP_TOLERANCE
 from .problem import ScaledProblem
 
 
@@ -72,6 +73,17 @@ class StrengthProblem(ScaledProblem):
         self.work_elsewhere = 0
         self.dilatant = None
         self.dilatant_done = [0, 0]
+        # the fictitious LPs' facets in force (module doc): the slides and each half's
+        # facet at the tension end (eq. 4's hinge rows) to begin with
+        self.in_force = np.zeros(nr, bool)
+        self.in_force[:3 * nc] = True
+        self.in_force[(2 + self.n_facets) * nc:(3 + self.n_facets) * nc] = True
+        self.facet_rounds = 0  # re-solves that brought violated facets into force
+
+    @property
+    def n_facets(self):
+        """Facets a half of each joint's N-M polygon."""
+        return (self.nr // self.nc - 2) // 2
 
     def work_bound(self):
         """The generator form's bound times how many more rows these LPs have: the work
@@ -169,8 +181,7 @@ class StrengthProblem(ScaledProblem):
             if lp.cold and not self.coh.cold:
                 lp.h.setBasis(self.coh.h.getBasis())
                 lp.cold = False
-        lp.set_row_bounds(np.concatenate([-self.f0, np.full(self.nr, -INF)]), np.concatenate([-self.f0, hi]))
-        status = lp.solve(deadline=self.deadline)
+        status = self._solve_in_force(lp, hi)
         if status != "optimal":
             return status, np.nan, None, None, None
         y, _ = lp.exact_duals()
@@ -186,6 +197,26 @@ class StrengthProblem(ScaledProblem):
             xi[~np.asarray(allowed, bool)] = 0.0
         x = lp.x()
         return status, float(x[-1]), x, u, self._significant(xi)
+
+    def _solve_in_force(self, lp, hi):
+        """Solve the fictitious LP ``lp`` (yield rows' bounds ``hi``) with only the facets in
+        force; the facets its optimum violates come into force and it is re-solved warm,
+        until none is violated: then it is the optimum over the whole polygon (the rows
+        left out are slack, their flows 0), the same LP as with every facet, at the cost
+        of the few facets near each joint's N (with f_c large, eq. 4's rows alone)."""
+        eq = np.concatenate([-self.f0, np.full(self.nr, -INF)])
+        allowed = hi < INF
+        while True:
+            lp.set_row_bounds(eq, np.concatenate([-self.f0, np.where(self.in_force, hi, INF)]))
+            status = lp.solve(deadline=self.deadline)
+            if status != "optimal":
+                return status
+            rows = (lp.A @ lp.x())[3 * self.nb:]
+            late = allowed & ~self.in_force & (rows > hi + LP_TOLERANCE * np.maximum(1.0, np.abs(hi)))
+            if not late.any():
+                return status
+            self.in_force |= late
+            self.facet_rounds += 1
 
     def _dilatant_lp(self, t):
         """The fictitious LP of dilatancy t, one at a time (as the generator form's)."""
