@@ -196,6 +196,20 @@ class HighsLP:
         """Row bounds: all of them, or those of the rows ``idx``."""
         self.b, self.b_hi = self._changed(self.b, self.b_hi, lo, hi, idx, self.h.changeRowsBounds)
 
+    def add_rows(self, rows, lo, hi):
+        """Append the rows ``lo <= rows x <= hi``; HiGHS keeps its basis, the new rows'
+        slacks basic (warm: the next solve starts where the last ended)."""
+        self._usable()
+        rows = sp.csr_matrix(rows)
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        self.A = sp.vstack([self.A, rows], format="csc")
+        self.m = self.A.shape[0]
+        self.b, self.b_hi = np.r_[self.b, lo], np.r_[self.b_hi, hi]
+        cost, col_lo, col_hi, b, b_hi = self._built
+        self._built = (cost, col_lo, col_hi, np.r_[b, lo], np.r_[b_hi, hi])
+        self.h.addRows(rows.shape[0], lo, hi, rows.nnz, rows.indptr[:-1].astype(np.int32),
+                       rows.indices.astype(np.int32), rows.data.astype(float))
+
     def _changed(self, cur_lo, cur_hi, lo, hi, idx, change):
         """New bounds (lo, hi), passed to HiGHS by ``change`` where they differ from (cur_lo, cur_hi)."""
         self._usable()
