@@ -19,6 +19,11 @@ generators.
   associative: columns ``(N, V, M, alpha)``, rows of equilibrium and ``G s_f <= (c + c0 A,
   beta)``, max alpha. The duals of its yield rows are the flows xi, of its equilibrium
   rows the motion u, exact from the final basis.
+* **Facets in force**: at a joint's N only the facets near it bind. The LPs begin with
+  the slides and each half's facet at the tension end (eq. 4's hinge rows as f_c grows)
+  and take in the facets an optimum violates, re-solving warm until none is: the
+  fictitious LPs as appended rows, the statics by bounding a free sigma at 0. Each
+  optimum is that of the whole polygon; every vector the search sees has all nr rows.
 
 A structure without strengths never comes here: :func:`lamodel.search.gap.formulation_of`
 keeps :class:`~.problem.ScaledProblem`, whose LPs are those of eq. (4).
