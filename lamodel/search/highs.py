@@ -20,8 +20,8 @@ import time
 import highspy
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
+from .basis import solve as basis_solve
 from .options import Deadline, Stopped
 from .tuning import (ABANDONED_EXIT_WAIT, BASIS_TOLERANCE, CAP_BACKSTOP, CAP_BACKSTOP_MIN, CAP_BACKSTOP_SAMPLE,
                      INLINE_COLUMNS, IPM_COLUMNS, IPM_TOLERANCE, LP_TOLERANCE, WAIT_SLICE)
@@ -196,6 +196,20 @@ class HighsLP:
         """Row bounds: all of them, or those of the rows ``idx``."""
         self.b, self.b_hi = self._changed(self.b, self.b_hi, lo, hi, idx, self.h.changeRowsBounds)
 
+    def add_rows(self, rows, lo, hi):
+        """Append the rows ``lo <= rows x <= hi``; HiGHS keeps its basis, the new rows'
+        slacks basic (warm: the next solve starts where the last ended)."""
+        self._usable()
+        rows = sp.csr_matrix(rows)
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        self.A = sp.vstack([self.A, rows], format="csc")
+        self.m = self.A.shape[0]
+        self.b, self.b_hi = np.r_[self.b, lo], np.r_[self.b_hi, hi]
+        cost, col_lo, col_hi, b, b_hi = self._built
+        self._built = (cost, col_lo, col_hi, np.r_[b, lo], np.r_[b_hi, hi])
+        self.h.addRows(rows.shape[0], lo, hi, rows.nnz, rows.indptr[:-1].astype(np.int32),
+                       rows.indices.astype(np.int32), rows.data.astype(float))
+
     def _changed(self, cur_lo, cur_hi, lo, hi, idx, change):
         """New bounds (lo, hi), passed to HiGHS by ``change`` where they differ from (cur_lo, cur_hi)."""
         self._usable()
@@ -350,23 +364,8 @@ class HighsLP:
         return np.sort(basic[basic >= 0]), np.sort(-basic[basic < 0] - 1)
 
     def _basis_solve(self, cols, rows, rhs, transpose=False):
-        """Solve B v = rhs (B^T v = rhs) with B = [A_cols | unit columns of rows] by a sparse
-        LU; None if B is singular. B is gathered from A's CSC arrays directly (scipy's
-        slicing and stacking cost more than the factorisation on small models)."""
-        A, m = self.A, self.m
-        start, count = A.indptr[cols], np.diff(A.indptr)[cols]
-        indptr = np.zeros(cols.size + rows.size + 1, np.int64)
-        indptr[1:cols.size + 1] = np.cumsum(count)
-        indptr[cols.size + 1:] = indptr[cols.size] + np.arange(1, rows.size + 1)
-        # positions in A.indices of every entry of the chosen columns, column by column
-        pos = np.repeat(start - indptr[:cols.size], count) + np.arange(indptr[cols.size])
-        indices = np.concatenate([A.indices[pos], rows])
-        data = np.concatenate([A.data[pos], np.ones(rows.size)])
-        Bm = sp.csc_matrix((data, indices, indptr), shape=(m, m))
-        try:
-            return splu(Bm).solve(rhs, trans="T" if transpose else "N")
-        except RuntimeError:
-            return None
+        """Solve B v = rhs (B^T v = rhs), B = [A_cols | unit columns of rows] (:func:`lamodel.search.basis.solve`)."""
+        return basis_solve(self.A, cols, rows, rhs, transpose)
 
     def exact_x(self) -> np.ndarray:
         """The primal solution recomputed from the final basis: nonbasic columns at their

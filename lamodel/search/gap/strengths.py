@@ -19,6 +19,11 @@ generators.
   associative: columns ``(N, V, M, alpha)``, rows of equilibrium and ``G s_f <= (c + c0 A,
   beta)``, max alpha. The duals of its yield rows are the flows xi, of its equilibrium
   rows the motion u, exact from the final basis.
+* **Facets in force**: at a joint's N only the facets near it bind. The LPs begin with
+  the slides and each half's facet at the tension end (eq. 4's hinge rows as f_c grows)
+  and take in the facets an optimum violates, re-solving warm until none is: the
+  fictitious LPs as appended rows, the statics by bounding a free sigma at 0. Each
+  optimum is that of the whole polygon; every vector the search sees has all nr rows.
 
 A structure without strengths never comes here: :func:`lamodel.search.gap.formulation_of`
 keeps :class:`~.problem.ScaledProblem`, whose LPs are those of eq. (4).
@@ -27,6 +32,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import highspy
 import numpy as np
 import scipy.sparse as sp
 
@@ -34,7 +40,10 @@ from ...formulation.matrices import joint_area
 from ...structure import Structure
 from ..highs import INF, HighsLP
 from ..options import Deadline
+from ..tuning import LP_TOLERANCE
 from .problem import ScaledProblem
+
+BASIC = int(highspy.HighsBasisStatus.kBasic)
 
 
 class StrengthProblem(ScaledProblem):
@@ -63,6 +72,13 @@ class StrengthProblem(ScaledProblem):
         self.stat = HighsLP(A, np.concatenate([-self.f0, self.b]), np.zeros(A.shape[1]), self.free,
                             np.full(A.shape[1], INF), "statics")
         self.obj_scale = float(nb)
+        # the fictitious LPs' rows (module doc): the slides and each half's facet at the
+        # tension end (eq. 4's hinge rows) to begin with, in the LPs in this order
+        self.in_force = np.zeros(nr, bool)
+        self.in_force[:3 * nc] = True
+        self.in_force[(2 + self.n_facets) * nc:(3 + self.n_facets) * nc] = True
+        self.fict_rows = np.flatnonzero(self.in_force)
+        self.facet_rounds = 0  # re-solves that brought violated facets into force
         self.coh = self._fictitious(0.0, "cohesive")
         self.coh_r = self._fictitious(0.0, "cohesive-r")
         self.lps = {"stat": self.stat, "coh": self.coh, "coh_r": self.coh_r}
@@ -73,11 +89,53 @@ class StrengthProblem(ScaledProblem):
         self.dilatant = None
         self.dilatant_done = [0, 0]
 
+    @property
+    def n_facets(self):
+        """Facets a half of each joint's N-M polygon."""
+        return (self.nr // self.nc - 2) // 2
+
     def work_bound(self):
         """The generator form's bound times how many more rows these LPs have: the work
         counts iterations times rows (:attr:`~lamodel.search.highs.HighsLP.work`), and the
         search should get as many iterations as on the dry joints' LPs (3 nb rows)."""
         return super().work_bound() * self.stat.m / (3 * self.nb)
+
+    # ------------------------------------------------ bases of LPs whose rows grow
+    FICTITIOUS = ("coh", "coh_r")
+
+    def bases(self):
+        """As :meth:`ScaledProblem.bases`, the fictitious LPs' row statuses in the order of
+        all the yield rows (a row not in force: basic), with the rows in force: another
+        copy of this problem, whose facets came into force in another order, restarts
+        from them (:meth:`restart`)."""
+        out = super().bases()
+        for name in self.FICTITIOUS:
+            if out[name] is not None:
+                cols, rows = out[name]
+                full = np.full(3 * self.nb + self.nr, BASIC, np.int8)
+                full[:3 * self.nb] = rows[:3 * self.nb]
+                full[3 * self.nb + self.fict_rows] = rows[3 * self.nb:]
+                out[name] = cols, full
+        out["in_force"] = self.in_force.copy()
+        return out
+
+    def restart(self, bases):
+        self._bring_into_force(bases.get("in_force", self.in_force))
+        own = dict(bases)
+        for name in self.FICTITIOUS:
+            if own.get(name) is not None:
+                cols, full = own[name]
+                own[name] = cols, np.r_[full[:3 * self.nb], full[3 * self.nb + self.fict_rows]]
+        super().restart(own)
+
+    def load_bases(self, saved, restart_cold=True):
+        """As :meth:`ScaledProblem.load_bases`; a fictitious LP's basis saved before facets
+        came into force gets their slacks basic (what adding them did)."""
+        for name, basis in saved.items():
+            lp = self.lps[name]
+            if basis is not None and len(basis.row_status) < lp.m:
+                basis.row_status = list(basis.row_status) + [highspy.HighsBasisStatus.kBasic] * (lp.m - len(basis.row_status))
+        super().load_bases(saved, restart_cold)
 
     def crushing_message(self) -> str:
         """Why the structure cannot stand, when its joints' strengths are the reason: the
@@ -99,13 +157,29 @@ class StrengthProblem(ScaledProblem):
             tmu = sp.csr_matrix((np.tile(t * self.mu, 2), (np.arange(2 * nc), np.tile(np.arange(nc), 2))),
                                 shape=G.shape)
             G = (G + tmu).tocsr()
-        A = sp.bmat([[self.A, self.fbar.reshape(-1, 1)], [G, None]], format="csc")
+        k = self.fict_rows
+        A = sp.bmat([[self.A, self.fbar.reshape(-1, 1)], [G[k], None]], format="csc")
         n = 3 * nc + 1
         cost = np.zeros(n)
         cost[-1] = -self.obj_scale
-        lo = np.concatenate([-self.f0, np.full(self.nr, -INF)])
-        hi = np.concatenate([-self.f0, self.b])
+        lo = np.concatenate([-self.f0, np.full(k.size, -INF)])
+        hi = np.concatenate([-self.f0, self.b[k]])
         return HighsLP(A, lo, cost, self.free[self.nr:], np.full(n, INF), name, b_hi=hi)
+
+    def _fictitious_lps(self):
+        return [self.coh, self.coh_r] + ([self.dilatant[1]] if self.dilatant is not None else [])
+
+    def _bring_into_force(self, rows):
+        """Append the facets ``rows`` (yield-row indices) to every fictitious LP; their
+        bounds are set by the next solve."""
+        rows = np.flatnonzero(np.asarray(rows, bool) & ~self.in_force)
+        if not rows.size:
+            return
+        self.in_force[rows] = True
+        self.fict_rows = np.r_[self.fict_rows, rows]
+        facets = sp.hstack([self.G[rows], sp.csr_matrix((rows.size, 1))], format="csr")
+        for lp in self._fictitious_lps():
+            lp.add_rows(facets, np.full(rows.size, -INF), self.b[rows])
 
     # ------------------------------------------------------------------- statics
     def forces(self, x):
@@ -125,12 +199,23 @@ class StrengthProblem(ScaledProblem):
         hi = np.full(n, INF)
         if held is not None and held.any():
             hi[:self.nl][held] = 0.0
+        # a row held or priced must be in force (a free sigma with a cost is unbounded)
+        self._bring_into_force((hi[:self.nl] == 0.0) | (cost[:self.nl] != 0.0))
         self.stat.set_cost(cost)
-        self.stat.set_bounds(self.free, hi)
-        status = self.stat.solve(cap, self.deadline)
-        if status != "optimal":
-            return status, None
-        x = self.stat.x()
+        while True:
+            # a facet not in force has its sigma free: its row says nothing
+            lo = self.free.copy()
+            lo[:self.nl][~self.in_force] = -INF
+            self.stat.set_bounds(lo, hi)
+            status = self.stat.solve(cap, self.deadline)
+            if status != "optimal":
+                return status, None
+            x = self.stat.x()
+            late = ~self.in_force & (x[:self.nl] < -LP_TOLERANCE)
+            if not late.any():
+                break
+            self._bring_into_force(late)
+            self.facet_rounds += 1
         x[:self.nl] = np.maximum(x[:self.nl], 0.0)
         x[-1] = max(x[-1], 0.0)
         return status, x
@@ -169,8 +254,7 @@ class StrengthProblem(ScaledProblem):
             if lp.cold and not self.coh.cold:
                 lp.h.setBasis(self.coh.h.getBasis())
                 lp.cold = False
-        lp.set_row_bounds(np.concatenate([-self.f0, np.full(self.nr, -INF)]), np.concatenate([-self.f0, hi]))
-        status = lp.solve(deadline=self.deadline)
+        status = self._solve_in_force(lp, hi)
         if status != "optimal":
             return status, np.nan, None, None, None
         y, _ = lp.exact_duals()
@@ -179,13 +263,38 @@ class StrengthProblem(ScaledProblem):
         if not fu > 0:
             return "degenerate", np.nan, None, None, None
         u /= fu
-        xi = np.maximum(-y[3 * self.nb:] / (self.obj_scale * fu), 0.0)
+        xi = np.zeros(self.nr)
+        xi[self.fict_rows] = np.maximum(-y[3 * self.nb:] / (self.obj_scale * fu), 0.0)
         if dilatancy > 0:
             xi = self._seed_flows(xi, dilatancy)
         elif allowed is not None:
             xi[~np.asarray(allowed, bool)] = 0.0
         x = lp.x()
         return status, float(x[-1]), x, u, self._significant(xi)
+
+    def _solve_in_force(self, lp, hi):
+        """Solve the fictitious LP ``lp`` (yield rows' bounds ``hi``, all nr) with only the
+        facets in force; the facets its optimum violates come into force and it is
+        re-solved warm, until none is violated: then it is the optimum over the whole
+        polygon (the rows left out are slack, their flows 0), the same LP as with every
+        facet, at the cost of the few facets near each joint's N (with f_c large, eq. 4's
+        rows alone)."""
+        out = ~self.in_force & (hi < INF)  # rows that may flow and are not in the LP
+        while True:
+            k = self.fict_rows
+            lp.set_row_bounds(np.concatenate([-self.f0, np.full(k.size, -INF)]), np.concatenate([-self.f0, hi[k]]))
+            status = lp.solve(deadline=self.deadline)
+            if status != "optimal":
+                return status
+            s_f = lp.x()[:3 * self.nc]
+            late = np.zeros(self.nr, bool)
+            rows = np.flatnonzero(out)
+            late[rows] = self.G[rows] @ s_f > hi[rows] + LP_TOLERANCE * np.maximum(1.0, np.abs(hi[rows]))
+            if not late.any():
+                return status
+            self._bring_into_force(late)
+            out &= ~late
+            self.facet_rounds += 1
 
     def _dilatant_lp(self, t):
         """The fictitious LP of dilatancy t, one at a time (as the generator form's)."""

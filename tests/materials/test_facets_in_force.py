@@ -1,0 +1,68 @@
+"""The LPs of joints with strengths hold only the facets in force (lamodel.search.gap.strengths):
+their optima are those over the whole inscribed polygon, and bases carry across copies."""
+import dataclasses
+
+import numpy as np
+import pytest
+
+from conftest import INSTANCES
+from lamodel.io.datfile import read_dat
+from lamodel.search.gap.strengths import StrengthProblem
+
+
+def problems(fc):
+    """wall33 with compressive strength fc: the search's problem (facets come into force as
+    they are violated) and the same with every facet in its LPs from the start."""
+    s = read_dat(INSTANCES / "wall33.dat")
+    s = dataclasses.replace(s, fc=np.full(s.n_contacts, fc))
+    lazy, full = StrengthProblem(s), StrengthProblem(s)
+    full._bring_into_force(np.ones(full.nr, bool))
+    return lazy, full
+
+
+def cohesions(p):
+    """The fictitious cohesions -mu N of the least-alpha statics and of the greatest."""
+    out = []
+    for maximize in (False, True):
+        status, x = p.statics(maximize=maximize)
+        assert status == "optimal"
+        out.append(-p.mu * p.N_of(x))
+    return out
+
+
+@pytest.mark.parametrize("fc", [3.0, 1e9])
+def test_the_lps_optima_are_those_of_the_whole_polygon(fc):
+    lazy, full = problems(fc)
+    for maximize in (False, True):
+        a, b = lazy.statics(maximize=maximize)[1], full.statics(maximize=maximize)[1]
+        assert a[-1] == pytest.approx(b[-1], rel=1e-9, abs=1e-12)
+        # every facet holds on the statics found with some of them left out
+        s_f = a[lazy.nl:lazy.nl + 3 * lazy.nc]
+        assert np.all(lazy.Y @ s_f <= lazy.b + 1e-8 * np.maximum(1.0, np.abs(lazy.b)))
+    for c in cohesions(full):
+        got, want = lazy.mechanism(c), full.mechanism(c)
+        assert got[0] == want[0] == "optimal"
+        assert got[1] == pytest.approx(want[1], rel=1e-9)
+        xi = got[4]
+        assert xi.shape == (lazy.nr,) and not xi[~lazy.in_force].any()
+        hi = lazy.b.copy()
+        hi[:2 * lazy.nc] = np.tile(np.maximum(c, 0.0) + lazy.cohesion_area, 2)
+        s_f = got[2][:3 * lazy.nc]
+        assert np.all(lazy.G @ s_f <= hi + 1e-8 * np.maximum(1.0, np.abs(hi)))
+    if fc == 3.0:
+        assert lazy.facet_rounds > 0  # facets beyond eq. 4's came into force
+    assert lazy.in_force.sum() < lazy.nr / 2
+
+
+def test_bases_carry_the_facets_in_force_to_another_copy():
+    lazy, _ = problems(3.0)
+    c = cohesions(lazy)[0]
+    alpha = lazy.mechanism(c)[1]
+    other, _ = problems(3.0)
+    other.restart(lazy.bases())
+    assert np.array_equal(other.in_force, lazy.in_force)
+    assert np.array_equal(np.sort(other.fict_rows), np.sort(lazy.fict_rows))  # in another order
+    got = other.mechanism(c)
+    assert got[0] == "optimal" and got[1] == pytest.approx(alpha, rel=1e-9)
+    # warm: the carried basis, its rows mapped to this copy's order, is already optimal
+    assert other.coh.n_solves == 1 and other.coh.h.getInfo().simplex_iteration_count == 0
