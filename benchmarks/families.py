@@ -220,12 +220,28 @@ def cases(quick: bool):
 
 
 # ------------------------------------------------------------------------ runs
-def _run(spec, all_methods, total_work, queue):
+def _without(names):
+    """The plan without the strategies named (runs.csv's path words, e.g. "continuation"):
+    a lane earns its place by what the families lose without it."""
+    from lamodel.search import plan
+    from lamodel.search.gap.lanes import Lane
+
+    def cut(lane):
+        return Lane(tuple(s for s in lane.strategies if s.name not in names), lane.until_certified)
+    plan.IF_STALLED = cut(plan.IF_STALLED)
+    plan.BESIDE_STALLED = tuple(cut(lane) for lane in plan.BESIDE_STALLED)
+    plan.CONTINUATIONS = tuple(cut(lane) for lane in plan.CONTINUATIONS)
+    plan.PUBLISHED = cut(plan.PUBLISHED)
+
+
+def _run(spec, all_methods, total_work, queue, without=()):
     from lamodel.io.jsonspec import structure_from_json
     from lamodel.search import driver
     from lamodel.search.driver import SolveOptions, path_of, solve
     if total_work is not None:
         driver.TOTAL_WORK = total_work
+    if without:
+        _without(set(without))
     s = structure_from_json(spec)
     t = time.perf_counter()
     o = solve(s, SolveOptions())
@@ -256,10 +272,10 @@ def _run(spec, all_methods, total_work, queue):
     queue.put(row)
 
 
-def run_case(spec, all_methods, timeout, total_work=None):
+def run_case(spec, all_methods, timeout, total_work=None, without=()):
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
-    p = ctx.Process(target=_run, args=(spec, all_methods, total_work, queue))
+    p = ctx.Process(target=_run, args=(spec, all_methods, total_work, queue, tuple(without)))
     t = time.perf_counter()
     p.start()
     try:
@@ -323,6 +339,10 @@ def main(argv=None):
                          "to show the bound's effect across the families")
     ap.add_argument("--lanes", action="store_true",
                     help="also print the lane table: which lane gave the final best, and each phase's share of the time")
+    ap.add_argument("--max-blocks", type=int, default=None, help="only the cases with at most this many blocks")
+    ap.add_argument("--without", default="",
+                    help="comma-separated strategies left out of the plan (their names in runs.csv's path, "
+                         "e.g. continuation): what the families lose without a lane")
     ap.add_argument("--csv", default=str(ROOT / "results" / "families.csv"))
     ap.add_argument("--write", metavar="DIR", help="write each case's structure file (CASE.json) to DIR, solve none "
                     "(then: lamodel solve DIR/CASE.json)")
@@ -341,7 +361,10 @@ def main(argv=None):
             atomic_write_text(Path(args.write) / f"{name}.json", json.dumps(spec))
             continue
         nb = structure_from_json(spec).n_blocks
-        row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work))
+        if args.max_blocks is not None and nb > args.max_blocks:
+            continue
+        row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work,
+                                                     filter(None, args.without.split(","))))
         rows.append(row)
         print(f"{fam:9s} {name:26s} {nb:5d} blocks  {row['status']:13s} alpha {row.get('alpha', np.nan):.6f}  "
               f"{row.get('path', ''):21s} first {row.get('t_first', np.nan):6.2f} s  best "

@@ -8,6 +8,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import subprocess
 import threading
 import time
 from concurrent.futures import Future
@@ -133,7 +134,7 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
     from ..formulation.model import get_state, set_state
     deadline = deadline or Deadline()
     set_state(model, structure, start.N, start.V, start.M, start.alpha, start.u, start.xi)
-    x = nlp.start_point()
+    x = nlp.start_point() if nlp is not None else None
     scale = max(1.0, abs(start.alpha))
     iterations, message, mult = 0, "not run", None
     for frac in ladder:
@@ -148,9 +149,17 @@ def ipopt_ladder(model, nlp, structure, start: CollapseState, ladder=EPSILON_LAD
         if nlp is None:  # Pyomo's own interface to an ipopt executable (warm start: primal only)
             from pyomo.environ import SolverFactory
             opts = {k: v for k, v in opts.items() if not k.startswith("warm_start")}
-            if deadline.at is not None:  # an executable's own limit (CPU time: all it has before 3.14)
-                opts["max_cpu_time"] = float(deadline.left())
-            res = SolverFactory("ipopt").solve(model, options=opts, load_solutions=False)
+            wall = None
+            if deadline.at is not None:
+                # the executable's own limit is CPU time (all 3.11 has: it ends with a point);
+                # Pyomo's timelimit ends the process at the wall time left
+                wall = float(deadline.left())
+                opts["max_cpu_time"] = wall
+            try:
+                res = SolverFactory("ipopt").solve(model, options=opts, load_solutions=False, timelimit=wall)
+            except subprocess.TimeoutExpired:
+                message = "time limit"
+                break
             message = str(res.solver.termination_condition)
             if len(res.solution) == 0:
                 break

@@ -3,10 +3,12 @@ search (its lanes in threads too), the cone programs in space, the GA's evaluati
 worker threads, and the Ipopt starts (their limit in wall time). Each run
 is stopped within 2 s of the limit (1 s more of slack for a loaded test machine), with a
 certified state or an honest status."""
+import os
 import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from lamodel.geometry import running_bond_wall
@@ -68,3 +70,28 @@ def test_an_ipopt_start_stops_at_the_limit_in_wall_time():
     assert took < 15.0 + SLACK, took
     assert o.status == "certified", o.message  # the search's own certificate stands
     assert [r.status for r in o.runs if r.source.startswith("ipopt from")] == ["time limit"], o.runs
+
+
+def test_an_ipopt_executable_is_stopped_at_the_limit_in_wall_time(tmp_path, monkeypatch):
+    """Pyomo's path to an ``ipopt`` executable: Ipopt 3.11's own limit counts CPU seconds,
+    which an executable blocked (here: one that sleeps, spending none) never reaches; the
+    process is ended at the wall time left."""
+    from lamodel.formulation.model import create_model
+    from lamodel.search.ipopt import ipopt_ladder
+    from lamodel.search.options import Deadline
+    from lamodel.search.state import CollapseState
+    exe = tmp_path / "ipopt"
+    exe.write_text('#!/bin/sh\nif [ "$1" = "-v" ]; then echo "Ipopt 3.11.9 (x86_64-pc-linux-gnu)"; exit 0; fi\n'
+                   'exec sleep 60\n')
+    exe.chmod(0o755)
+    monkeypatch.setenv("PATH", f"{tmp_path}:{os.environ['PATH']}")
+    s = bond(3, 4)
+    model = create_model(s)
+    nc, nb = s.n_contacts, s.n_blocks
+    start = CollapseState(0.0, np.zeros(nc), np.zeros(nc), np.zeros(nc), np.zeros(3 * nb), np.zeros(4 * nc),
+                          np.zeros(4 * nc, bool))
+    t = time.perf_counter()
+    _, message, _ = ipopt_ladder(model, None, s, start, deadline=Deadline.after(1.5))
+    took = time.perf_counter() - t
+    assert message == "time limit", message
+    assert took < 1.5 + SLACK, took
