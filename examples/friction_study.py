@@ -52,7 +52,7 @@ def main(argv=None):
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--starts", type=int, default=0, help="Ipopt starts per point (default 0: LPs only)")
     where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, default=None, help="local processes, one mu each (default 1)")
+    where.add_argument("--workers", type=int, default=None, help="local processes, one mu each (default: all cores)")
     where.add_argument("--scheduler", help="a dask.distributed scheduler tcp://HOST:PORT to run the mus on")
     args = p.parse_args(argv)
 

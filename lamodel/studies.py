@@ -40,7 +40,8 @@ def friction_study(structure: Structure, mus, options: SolveOptions | None = Non
     The study spec ``{"vary": {"mu": mus}}`` (:mod:`lamodel.parametric`, as
     ``examples/friction_study.json``) run with these options: one solve per mu on a copy
     with that mu on every contact, its GA seed spawned from ``options.seed``; on
-    ``workers`` local processes (default 1: this process) or on a Dask ``scheduler``.
+    ``workers`` local processes (default: all cores, as ``--workers``; 1: in this process)
+    or on a Dask ``scheduler``.
     Columns: mu, alpha_c (NaN if none was certified), alpha_associative, certified,
     n_sliding, n_hinging (contacts that slip / rotate in the mechanism; a contact doing
     both counts in both), seconds, status. ``progress(row)`` is called after each solve.
@@ -54,7 +55,7 @@ def friction_study(structure: Structure, mus, options: SolveOptions | None = Non
     spec = {"vary": {"mu": mus}, "seed": opt.seed, "options": {k: getattr(opt, k) for k in fields}}
     study = study_from_dict(spec, structure, where="friction_study")
     rename = lambda row: {**row, "alpha_c": row["alpha"]}  # noqa: E731
-    df = run_study(study, workers=workers or (None if scheduler else 1), scheduler=scheduler, progress=False,
+    df = run_study(study, workers=workers, scheduler=scheduler, progress=False,
                    on_row=None if progress is None else (lambda row: progress(rename(row))))
     return df.rename(columns={"alpha": "alpha_c"})[list(FRICTION_COLUMNS)]
 
