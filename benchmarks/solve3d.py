@@ -21,7 +21,9 @@ load along +x equal to each block's weight. ``armadillo``: compas_cra's Armadill
 blocks below z = 0.5, those compas_cra's ``armadillo_cra.json`` flags; tolerance 1e-4) under self-weight
 (unit weight 1) plus a horizontal load along +x equal to each block's weight, mu 0.6.
 ``vault``: :func:`lamodel.geometry.barrel_vault` with its defaults; ``domeRxS``: a dome of R
-rings of S voussoirs (:func:`lamodel.geometry.dome`, other defaults); ``facade``:
+rings of S voussoirs (:func:`lamodel.geometry.dome`, other defaults); ``tower``: the
+circular tower of :func:`lamodel.geometry.tower` (16 staggered courses of 12 voussoirs, 192
+blocks, 2,976 contact points, mu 0.7, live load along +x); ``facade``:
 ``instances/facade.json``.
 Columns: blocks, contact points, the
 associative bound and the time of its cone program, the first certified alpha and its time,
@@ -53,11 +55,13 @@ def build(case: str, compas=None):
     from lamodel.geometry import box_building, running_bond_wall, seed_wall
     from lamodel.io.jsonspec import structure_from_json
     name, _, load = case.partition("-")
-    if name == "vault" or name.startswith("dome") or name == "facade":
+    if name in ("vault", "facade", "tower") or name.startswith("dome"):
         from lamodel.geometry import generators3d as G
         from lamodel.io.json3d import structure3d_from_spec
         if name == "vault":
             spec = G.barrel_vault()
+        elif name == "tower":
+            spec = G.tower()
         elif name == "facade":
             from lamodel.io import read
             return read(ROOT / "instances" / "facade.json"), np.nan

@@ -1,7 +1,8 @@
 """Generators of block assemblies in space, as 3D JSON specs (build a Structure3D with
 :func:`lamodel.io.json3d.structure3d_from_spec`): out-of-plane wall panels, a façade with
 returns and openings, a one-room box building, a barrel vault on two walls, a dome of
-voussoir rings, and any 2D spec (:mod:`lamodel.geometry.generators`) extruded to a depth.
+voussoir rings, a circular tower of voussoir courses, and any 2D spec
+(:mod:`lamodel.geometry.generators`) extruded to a depth.
 
 Conventions: z up, ground slab ``ground`` (a support) under z = 0; lengths in metres in
 the defaults (blocks 0.4 x 0.2 x 0.2, unit weight 1); every block is the convex hull of its
@@ -251,6 +252,35 @@ def dome(n_rings: int = 6, n_per_ring: int = 12, radius: float = 2.0, thickness:
     _ground(blocks, (-ro, -ro), (ro, ro), thickness)
     return _spec(name, blocks, mu, unit_weight, live_load,
                  f"Dome of {n_rings} rings x {n_per_ring} voussoirs, radius {radius}, oculus {oculus} degrees.")
+
+
+def tower(courses: int = 16, per_course: int = 12, radius: float = 2.0, thickness: float = 0.4,
+          course_height: float = 0.4, stagger: bool = True, mu: float = 0.7, unit_weight: float = 1.0,
+          live_load=(1.0, 0.0, 0.0), name: str = "tower") -> dict:
+    """A circular tower of ``courses`` ring courses of ``per_course`` voussoirs (inner radius
+    ``radius``, wall ``thickness``, each course ``course_height`` high) on a ground slab;
+    alternate courses turned by half a voussoir when ``stagger``, so that no vertical joint
+    runs through two courses. Each voussoir is the prism on the chords of its annular
+    sector, so bed joints are the overlaps of plane quadrilaterals and head joints lie on
+    meridian planes."""
+    _check_positive(name, radius=radius, thickness=thickness, course_height=course_height, courses=courses)
+    if per_course < 3:
+        raise InputError(f"{name}: per_course={per_course}; expected at least 3 voussoirs a course")
+    step = 2 * math.pi / per_course
+    blocks = []
+    for k in range(int(courses)):
+        z0, z1 = k * course_height, (k + 1) * course_height
+        turn = step / 2 if (stagger and k % 2) else 0.0
+        for j in range(int(per_course)):
+            a, b = turn + j * step, turn + (j + 1) * step
+            pts = [[r * math.cos(ph), r * math.sin(ph), z] for r in (radius, radius + thickness)
+                   for ph in (a, b) for z in (z0, z1)]
+            blocks.append({"id": f"t{k + 1}_{j + 1}", "vertices": pts})
+    ro = radius + thickness
+    _ground(blocks, (-ro, -ro), (ro, ro), thickness)
+    return _spec(name, blocks, mu, unit_weight, live_load,
+                 f"Circular tower of {courses} courses x {per_course} voussoirs, radius {radius}, "
+                 f"{'staggered' if stagger else 'stack-bonded'}.")
 
 
 def extrude(spec2d: dict, depth: float = 1.0, name: str | None = None) -> dict:
