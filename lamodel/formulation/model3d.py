@@ -10,6 +10,14 @@
 ``alpha_K - alpha`` is the sum over the points of ``-N q_n`` and ``-mu N sigma - T.slip``,
 each >= 0 on S, so a point with zero gap is a collapse state: opening only where N = 0,
 slip only on the cone along T, sigma the slip's length (the seed's second theorem).
+
+With the joints' strengths (:meth:`lamodel.structure3d.Structure3D.caps`: per point
+``N_c = -f_c A <= N <= N_t = f_t A`` and ``||T|| <= k - mu N``, k = c0 A) the cone is
+``T1^2 + T2^2 <= (k - mu N)^2`` with ``k - mu N >= 0``, the opening ``q_n = open - close``
+(``close``, the point crushing, only where it has a cap), and
+``alpha_K = -u^T f0 + sum (k - mu N) sigma + N_t open - N_c close``: the fictitious
+system's cohesion ``k - mu N`` and its caps associative, as the search's programs
+(:mod:`lamodel.search.gap.capped3d`).
 Coefficients come from :mod:`lamodel.formulation.space`. Built on a ``ConcreteModel``
 (:func:`create_model3d`) or as ``m.room = LimitAnalysisBlock3D(structure=s)`` inside anyone's
 model; solved by Ipopt through ``SolverFactory('lamodel_ipopt')``.
@@ -22,7 +30,6 @@ from pyomo.core.base.block import BlockData, declare_custom_block
 from pyomo.environ import (ConcreteModel, Constraint, NonNegativeReals, Objective, Param, RangeSet, Set, Var,
                            inequality, minimize)
 
-from ..errors import InputError
 from ..structure3d import Structure3D
 from .model import _row  # noqa: F401  (also registers SolverFactory('lamodel_ipopt'))
 from .space import Formulation3D
@@ -31,25 +38,29 @@ DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
 def declare_limit_analysis3d(b, structure: Structure3D, objective: bool = True):
-    """All components of eq. (5) in space on block b (dry joints: InputError for joints
-    with strengths, which the search solves)."""
+    """All components of eq. (5) in space on block b, with the joints' strengths where the
+    structure has them (module doc)."""
     s = structure
-    if s.has_materials:
-        raise InputError(f"structure '{s.name}': the Pyomo model in space has dry joints only; expected no fc, ft "
-                         "or cohesion (the search, lamodel solve, takes them)")
     F = b._formulation = Formulation3D.of(s)
     n = s.n_points
+    crush, tension, k = s.caps() if s.has_materials else (np.full(n, -np.inf), np.zeros(n), np.zeros(n))
+    capped = np.isfinite(crush)
     b.BLOCKS = Set(ordered=True, initialize=s.blocks, doc="movable blocks")
     b.DOFS = Set(ordered=True, initialize=DOFS, doc="block motions at the centroid")
     b.POINTS = RangeSet(0, n - 1, doc="contact points")
     b.mu = Param(b.POINTS, initialize=dict(enumerate(map(float, s.mu))), doc="friction coefficient")
     b.epsilon = Param(initialize=0.0, mutable=True, doc="allowed complementarity gap alpha_K - alpha")
-    b.N = Var(b.POINTS, bounds=(None, 0.0), initialize=0.0, doc="normal force, <= 0 in compression")
+    b.N = Var(b.POINTS, bounds=lambda b, p: (float(crush[p]) if capped[p] else None, float(tension[p])),
+              initialize=0.0, doc="normal force, < 0 in compression, within the point's crushing and tensile forces")
+    b.k = Param(b.POINTS, initialize=dict(enumerate(map(float, k))), doc="cohesion force c0 A")
     b.T1 = Var(b.POINTS, initialize=0.0, doc="tangential force along t1")
     b.T2 = Var(b.POINTS, initialize=0.0, doc="tangential force along t2")
     b.alpha = Var(within=NonNegativeReals, initialize=0.0, doc="load multiplier")
     b.u = Var(b.BLOCKS, b.DOFS, initialize=0.0, doc="block motion at the centroid")
     b.sigma = Var(b.POINTS, within=NonNegativeReals, initialize=0.0, doc="bound on the slip's length")
+    b.CAPPED = Set(ordered=True, initialize=[int(p) for p in np.flatnonzero(capped)], doc="points with a crushing cap")
+    b.close = Var(b.CAPPED, within=NonNegativeReals, initialize=0.0, doc="closing (crushing) of a capped point")
+    closing = lambda b, p: b.close[p] if capped[p] else 0.0  # noqa: E731
     forces = [b.N[p] for p in b.POINTS] + [b.T1[p] for p in b.POINTS] + [b.T2[p] for p in b.POINTS]
     motions = [b.u[j, k] for j in s.blocks for k in DOFS]
     A, f0, fbar = F.A, F.f0, F.fbar
@@ -59,15 +70,21 @@ def declare_limit_analysis3d(b, structure: Structure3D, objective: bool = True):
         i = 6 * b.BLOCKS.ord(j) - 6 + DOFS.index(k)
         return _row(A, i, forces) + float(f0[i]) + b.alpha * float(fbar[i]) == 0
     b.equilibrium = Constraint(b.BLOCKS, b.DOFS, rule=equilibrium)
-    b.cone = Constraint(b.POINTS, rule=lambda b, p: b.T1[p] ** 2 + b.T2[p] ** 2 <= b.mu[p] ** 2 * b.N[p] ** 2)
-    b.opening = Constraint(b.POINTS, rule=lambda b, p: _row(Qt, p, motions) >= 0)
+    # the cone's radius at N (-mu N on a dry point: N <= 0 keeps it >= 0; a point that can
+    # take tension keeps N under the apex, N <= k / mu)
+    radius = lambda b, p: b.k[p] - b.mu[p] * b.N[p] if k[p] else -b.mu[p] * b.N[p]  # noqa: E731
+    b.cone = Constraint(b.POINTS, rule=lambda b, p: b.T1[p] ** 2 + b.T2[p] ** 2 <= radius(b, p) ** 2)
+    b.apex = Constraint(b.POINTS, rule=lambda b, p: radius(b, p) >= 0 if tension[p] > 0 else Constraint.Skip)
+    b.opening = Constraint(b.POINTS, rule=lambda b, p: _row(Qt, p, motions) + closing(b, p) >= 0)
     b.slip = Constraint(b.POINTS, rule=lambda b, p: _row(Qt, n + p, motions) ** 2 + _row(Qt, 2 * n + p, motions) ** 2
                         <= b.sigma[p] ** 2)
     b.normalisation = Constraint(expr=sum(float(fbar[i]) * motions[i] for i in np.flatnonzero(fbar)) == 1)
 
     def alpha_K(b):
         work = sum(float(f0[i]) * motions[i] for i in np.flatnonzero(f0))
-        return -work - sum(b.mu[p] * b.N[p] * b.sigma[p] for p in b.POINTS)
+        caps = sum(float(tension[p]) * (_row(Qt, p, motions) + closing(b, p)) for p in np.flatnonzero(tension))
+        caps -= sum(float(crush[p]) * b.close[p] for p in b.CAPPED)
+        return -work + sum(radius(b, p) * b.sigma[p] for p in b.POINTS) + caps
     b.complementarity = Constraint(rule=lambda b: inequality(0, alpha_K(b) - b.alpha, b.epsilon))
     if objective:
         b.min_alpha = Objective(expr=b.alpha, sense=minimize)
@@ -117,6 +134,8 @@ def set_state3d(b, state):
     n = len(state.N)
     slip = np.hypot(state.q[n:2 * n], state.q[2 * n:])
     for p in range(n):
+        if p in b.CAPPED:
+            b.close[p].set_value(max(-float(state.q[p]), 0.0), skip_validation=True)
         b.N[p].set_value(float(state.N[p]), skip_validation=True)
         b.T1[p].set_value(float(state.T1[p]))
         b.T2[p].set_value(float(state.T2[p]))

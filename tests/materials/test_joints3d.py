@@ -211,10 +211,46 @@ def test_turned_mirrored_renumbered_give_the_same_alpha():
         assert solve(strong(moved, fc=5.0)).alpha == pytest.approx(base, rel=1e-7)
 
 
-def test_the_pyomo_model_in_space_refuses_strengths():
-    from lamodel.formulation.model3d import create_model3d
-    with pytest.raises(InputError, match="dry joints only"):
-        create_model3d(strong(box_on_ground(A, B, H), fc=1.0))
+def _pyomo_alpha(s, r):
+    """The Pyomo model in space at the search's state: its largest constraint breach and
+    its gap alpha_K - alpha; then Ipopt from there with alpha perturbed: alpha and the
+    statics' largest breach of the caps and of the cone."""
+    from pyomo.environ import Constraint, SolverFactory, value
+    from lamodel.formulation.model3d import create_model3d, get_state3d, set_state3d
+    m = create_model3d(s)
+    set_state3d(m, r.state)
+    at_state = max(max(-c.lslack(), -c.uslack(), 0.0) for c in m.component_data_objects(Constraint, active=True))
+    gap = value(m.complementarity.body)
+    m.alpha.set_value(r.alpha * 1.1 + 0.01)     # start away from the answer
+    res = SolverFactory("lamodel_ipopt").solve(m)
+    assert str(res.solver.termination_condition) in ("optimal", "locallyOptimal")
+    N, T1, T2, alpha, _ = get_state3d(m)
+    crush, tension, k = s.caps()
+    breach = max((crush - N).max(), (N - tension).max(), (np.hypot(T1, T2) - (k - s.mu * N)).max())
+    return at_state, gap, value(m.alpha), breach
+
+
+@pytest.mark.skipif(not __import__("lamodel.solvers.bridge", fromlist=["x"]).ipopt_available(),
+                    reason="cyipopt not installed")
+@pytest.mark.parametrize("case", ["crushing", "cohesion", "tension"])
+def test_the_pyomo_model_in_space_takes_strengths(case):
+    """The Pyomo model of eq. (5) with the caps and the cohesion gives the closed forms
+    (polished by Ipopt from a perturbed start): the same model as the search's."""
+    mu = 0.3
+    if case == "crushing":
+        s, exact = strong(box_on_ground(A, B, H, mu=1.0), fc=0.8), rocking(0.8)
+    elif case == "cohesion":
+        s, exact = strong(box_on_ground(A, B, 0.2, mu=mu), cohesion=0.1), (mu * W + 0.1 * A * B) / W
+    else:
+        s, exact = strong(box_on_ground(A, B, H, mu=1.0), ft=0.05, cohesion=0.05), rocking(ft=0.05)
+    r = solve(s)
+    assert r.alpha == pytest.approx(exact, abs=1e-7)
+    at_state, gap, alpha, breach = _pyomo_alpha(s, r)
+    assert at_state < 1e-9 and abs(gap) < 1e-9  # the search's state is a zero-gap point of the model
+    # Ipopt on the squared cones: the slips are as accurate as the square root of its
+    # tolerance (a slip of 1e-4 breaches s1^2 + s2^2 <= sigma^2 by 1e-8)
+    assert alpha == pytest.approx(exact, abs=1e-4)
+    assert breach < 1e-6
 
 
 def test_a_tension_state_passes_the_oracle(tmp_path):
