@@ -50,7 +50,8 @@ import pandas as pd
 from .errors import InputError, OutputError
 from .spec_values import check_keys, numbers, sd_of
 from .structure import Structure
-from .variants import with_block_sizes, with_dead_force, with_friction, with_load_angle, with_strengths
+from .variants import (friction_places, in_space, with_block_sizes, with_dead_force, with_friction, with_load_angle,
+                       with_strengths)
 
 #: columns after the parameters, in this order
 RESULT_COLUMNS = ("alpha", "certified", "alpha_associative", "n_sliding", "n_hinging", "n_open", "seconds",
@@ -118,6 +119,11 @@ def study_from_dict(spec: dict, structure: Structure, where: str = "study spec")
         grid.append(("fc", fcs))
     if "load_angle" in vary:
         grid.append(("load_angle", numbers(vary["load_angle"], f"{where}: vary.load_angle")))
+    if in_space(structure):  # what a study changes in space: mu, fc, the load's heading, mu at random
+        for key, planar in (("dead_force", "dead_force" in vary), ("random.size", "size" in (spec.get("random") or {}) if isinstance(spec.get("random"), dict) else False)):
+            if planar:
+                raise InputError(f"{where}: {key} varies planar structures only; expected mu, fc, load_angle "
+                                 f"(about the vertical) or random.mu for '{structure.name}' in space")
     if "dead_force" in vary:
         force = vary["dead_force"]
         check_keys(force, ("block", "fx", "fy"), f"{where}: vary.dead_force")
@@ -188,7 +194,7 @@ def variant_structure(study: Study, params: dict, rng: np.random.Generator) -> t
         s = with_dead_force(s, study.dead_block, params["dead_fx"], params["dead_fy"], name=s.name)
     r = study.random or {}
     if "mu" in r:
-        z = rng.standard_normal(s.n_contacts if r["mu"]["per"] == "contact" else 1)
+        z = rng.standard_normal(friction_places(s) if r["mu"]["per"] == "contact" else 1)
         s = copy.deepcopy(s)
         s.mu = np.maximum(s.mu + r["mu"]["sd"] * z, 0.0)
         drawn.update(mu_mean=float(s.mu.mean()), mu_min=float(s.mu.min()))

@@ -14,13 +14,24 @@ from .errors import InputError
 from .structure import Structure
 
 
+def in_space(structure) -> bool:
+    return getattr(structure, "dimension", 2) == 3
+
+
+def friction_places(structure) -> int:
+    """How many friction coefficients the structure has: a contact's in the plane, a
+    contact point's in space."""
+    return structure.n_points if in_space(structure) else structure.n_contacts
+
+
 def with_friction(structure: Structure, mu: float) -> Structure:
-    """A copy of the structure with the friction coefficient mu on every contact."""
+    """A copy of the structure with the friction coefficient mu on every contact (in
+    space: every contact point)."""
     mu = float(mu)
     if not np.isfinite(mu) or mu < 0:
         raise InputError(f"friction coefficient {mu}: expected a finite number >= 0")
     s = copy.deepcopy(structure)
-    s.mu = np.full(s.n_contacts, mu)
+    s.mu = np.full(friction_places(s), mu)
     s.name = f"{structure.name}_mu{mu:g}"
     return s
 
@@ -31,7 +42,7 @@ def with_strengths(structure: Structure, fc: float | None = None, ft: float | No
     own; :mod:`lamodel.formulation.joints`; in space on every contact point,
     :mod:`lamodel.formulation.space`), checked (InputError naming the field)."""
     s = copy.deepcopy(structure)
-    n = s.n_points if getattr(s, "dimension", 2) == 3 else s.n_contacts
+    n = friction_places(s)
     for name, value in (("fc", fc), ("ft", ft), ("cohesion", cohesion)):
         if value is not None:
             setattr(s, name, np.full(n, float(value)))
@@ -53,9 +64,15 @@ def with_dead_force(structure: Structure, block: str, fx: float = 0.0, fy: float
 
 
 def with_load_angle(structure: Structure, degrees: float) -> Structure:
-    """A copy with every live force rotated by ``degrees`` counter-clockwise."""
+    """A copy with every live force rotated by ``degrees`` counter-clockwise (in space:
+    about the vertical axis z, forces and couples alike)."""
     c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
     out = copy.deepcopy(structure)
+    if in_space(structure):
+        turn = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])  # row vectors: v @ turn
+        out.live = structure.live @ turn
+        out.live_m = structure.live_m @ turn
+        return out
     out.live = structure.live @ np.array([[c, s], [-s, c]])
     return out
 

@@ -61,10 +61,9 @@ def plot_friction_study(df: pd.DataFrame, path, title: str | None = None) -> str
         ax = fig.add_subplot()
         ok = df["certified"].astype(bool)
         ax.plot(df["mu"], df["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
-        ax.plot(df.loc[ok, "mu"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", label=r"$\alpha_c$ (certified)")
-        if (~ok).any():
-            for mu in df.loc[~ok, "mu"]:
-                ax.axvline(mu, color="#c0392b", linestyle=":", linewidth=0.8)
+        ax.plot(df["mu"], df["alpha_c"].where(ok), "o-", color="#c0392b", label=r"$\alpha_c$ (certified)")
+        for i, mu in enumerate(df.loc[~ok, "mu"]):  # no line drawn across a mu without a certificate
+            ax.axvline(mu, color="#c0392b", linestyle=":", linewidth=0.8, label="no certified $\\alpha$" if i == 0 else None)
         lo, hi = float(df["mu"].min()), float(df["mu"].max())
         ax.plot([lo, hi], [lo, hi], ":", color="#1f5fbf", linewidth=0.9, label=r"$\alpha = \mu$")
         ax.set_xlabel(r"friction coefficient $\mu$")
@@ -81,8 +80,8 @@ def rolling_figure(df: pd.DataFrame, title: str | None = None, length_unit: str 
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 3.8), dpi=110)
     ok = df["certified"].astype(bool)
-    ax.plot(df.loc[ok, "position"], df.loc[ok, "alpha_c"], "o-", color="#c0392b", ms=4,
-            label=r"$\alpha_c$ (certified)")
+    ax.plot(df["position"], df["alpha_c"].where(ok), "o-", color="#c0392b", ms=4,
+            label=r"$\alpha_c$ (certified)")  # broken where a position has no certificate
     worst = df[df["governing"].astype(bool)]
     if len(worst):
         ax.plot(worst["position"], worst["alpha_c"], "*", color="black", ms=12,
@@ -165,12 +164,14 @@ def _plot_against(ax, df, varied, study):
             ax.plot(ok[x], ok["alpha"], ".", color=color, alpha=0.35, markersize=4)
             med = ok.groupby(x)["alpha"].median()
             ax.plot(med.index, med.to_numpy(), "o-", color=color, label=(label + ": " if label else "") + "median")
-        else:
-            ax.plot(ok[x], ok["alpha"], "o-", color=color, label=label or r"$\alpha_c$ (certified)")
+        else:  # the line broken where a variant has no certified alpha: nothing is drawn there
+            ax.plot(g[x], g["alpha"].where(g["certified"].astype(bool)), "o-", color=color,
+                    label=label or r"$\alpha_c$ (certified)")
         if not others and not study.random:
             ax.plot(g[x], g["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
-        for v in g.loc[~g["certified"], x]:
-            ax.axvline(v, color=color, linestyle=":", linewidth=0.8)
+        for i, v in enumerate(g.loc[~g["certified"].astype(bool), x]):
+            ax.axvline(v, color=color, linestyle=":", linewidth=0.8,
+                       label="no certified $\\alpha$" if i == 0 and k == 0 else None)
     ax.set_xlabel({"mu": r"friction coefficient $\mu$", "fc": r"compressive strength $f_c$",
                    "load_angle": "live-load angle (degrees)",
                    "dead_fx": f"dead force $f_x$ on {study.dead_block}",
