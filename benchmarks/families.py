@@ -234,12 +234,27 @@ def _without(names):
     plan.PUBLISHED = cut(plan.PUBLISHED)
 
 
-def _run(spec, all_methods, total_work, queue, without=()):
+def _tune(assignments):
+    """NAME=VALUE: a constant of lamodel.search.tuning set for this run, in every module
+    that holds it (to show its effect across the families)."""
+    import sys
+    import lamodel.search.tuning as tuning
+    for item in assignments:
+        name, _, value = item.partition("=")
+        if not hasattr(tuning, name):
+            raise SystemExit(f"--tuning {item}: no constant {name} in lamodel.search.tuning")
+        for module in list(sys.modules.values()):
+            if getattr(module, "__name__", "").startswith("lamodel") and hasattr(module, name):
+                setattr(module, name, float(value))
+
+
+def _run(spec, all_methods, total_work, queue, without=(), tuning=()):
     from lamodel.io.jsonspec import structure_from_json
     from lamodel.search import driver
     from lamodel.search.driver import SolveOptions, path_of, solve
     if total_work is not None:
         driver.TOTAL_WORK = total_work
+    _tune(tuning)
     if without:
         _without(set(without))
     s = structure_from_json(spec)
@@ -272,10 +287,10 @@ def _run(spec, all_methods, total_work, queue, without=()):
     queue.put(row)
 
 
-def run_case(spec, all_methods, timeout, total_work=None, without=()):
+def run_case(spec, all_methods, timeout, total_work=None, without=(), tuning=()):
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
-    p = ctx.Process(target=_run, args=(spec, all_methods, total_work, queue, tuple(without)))
+    p = ctx.Process(target=_run, args=(spec, all_methods, total_work, queue, tuple(without), tuple(tuning)))
     t = time.perf_counter()
     p.start()
     try:
@@ -343,6 +358,8 @@ def main(argv=None):
     ap.add_argument("--without", default="",
                     help="comma-separated strategies left out of the plan (their names in runs.csv's path, "
                          "e.g. continuation): what the families lose without a lane")
+    ap.add_argument("--tuning", action="append", default=[], metavar="NAME=VALUE",
+                    help="a constant of lamodel.search.tuning set for this run (repeatable)")
     ap.add_argument("--csv", default=str(ROOT / "results" / "families.csv"))
     ap.add_argument("--write", metavar="DIR", help="write each case's structure file (CASE.json) to DIR, solve none "
                     "(then: lamodel solve DIR/CASE.json)")
@@ -364,7 +381,7 @@ def main(argv=None):
         if args.max_blocks is not None and nb > args.max_blocks:
             continue
         row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work,
-                                                     filter(None, args.without.split(","))))
+                                                     filter(None, args.without.split(",")), args.tuning))
         rows.append(row)
         print(f"{fam:9s} {name:26s} {nb:5d} blocks  {row['status']:13s} alpha {row.get('alpha', np.nan):.6f}  "
               f"{row.get('path', ''):21s} first {row.get('t_first', np.nan):6.2f} s  best "
