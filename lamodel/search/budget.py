@@ -8,16 +8,18 @@ the default rule (:class:`WorkRule`) sets them; under one none is set and the ti
 the search's only bound. Every solve of an engine reads its budget's :attr:`Budget.deadline`
 at the call (HiGHS's interrupt callback, Clarabel's time limit): it expires at the time
 cap, a stop, or once the work bounds that apply are spent, between two solves. Lanes run
-elsewhere are given child budgets (:meth:`Budget.share`, :meth:`Budget.side_lane`); the
-Ipopt polish is given the time the search leaves it (:meth:`Budget.reserve`).
+elsewhere are given child budgets (:meth:`Budget.share`, :meth:`Budget.side_lane`, the
+latter bounded by the main lane's work once it certifies: :class:`MainLane`); the Ipopt polish is given the time the search leaves it (:meth:`Budget.reserve`).
 """
 from __future__ import annotations
 
+import math
+import threading
 from contextlib import contextmanager
 from dataclasses import dataclass
 
 from .options import Deadline, Stopped
-from .tuning import FIRST_WORK, POLISH_SHARE, TOTAL_WORK
+from .tuning import EVALUATION_SLICE, FIRST_WORK, POLISH_SHARE, SIDE_LANE_SHARE, TOTAL_WORK
 
 
 @dataclass(frozen=True)
@@ -68,6 +70,9 @@ class Budget:
         self._first = False       # the first certificate runs: its bound applies
         self._charged = True      # the work bounds stop solves (not after the search)
         self._lane_from = 0.0     # the search's work when the first certificate's side lanes began
+        #: a side lane's bound by the main lane beside it (:class:`MainLane`; None: none), and
+        #: this engine's work when the side lane began
+        self.main_lane, self._side_from = None, 0.0
         self.deadline = Charged(self)
 
     @classmethod
@@ -157,9 +162,11 @@ class Budget:
         return self.problem.work()
 
     def spent(self) -> bool:
-        """The work bounds (LP solves, LP work) are reached."""
+        """The work bounds (LP solves, LP work) are reached, or a side lane's bound by the
+        main lane beside it (:meth:`MainLane.reached`: it may wait for the main lane)."""
         return ((self.work_limit is not None and self.problem.n_lps() >= self.work_limit)
-                or (self.work_bound is not None and self.work() >= self.work_bound))
+                or (self.work_bound is not None and self.work() >= self.work_bound)
+                or (self.main_lane is not None and self.main_lane.reached(self.work() - self._side_from)))
 
     def first(self, run, certified):
         """``run()``, the first certificate, ending between two solves once the search's
@@ -193,16 +200,23 @@ class Budget:
 
     def side_lane(self) -> "Budget":
         """The budget of a lane beside the first certificate: the whole first-certificate
-        work left (no bound without one), under the time cap alone."""
+        work left (no bound without one), under the time cap alone; without a time limit
+        also bounded by the main lane on this engine once it certifies (its
+        :attr:`main_lane`, told by :meth:`MainLane.ended`)."""
         self._lane_from = self.work()
         left = None if self.first_bound is None else max(0.0, self.first_bound - self._lane_from)
-        return Budget(self.cap, allowance=(None, left))
+        child = Budget(self.cap, allowance=(None, left))
+        if self.rule is not None:
+            start = self._lane_from
+            child.main_lane = MainLane(lambda: self.work() - start)
+        return child
 
     def run_under(self, child: "Budget"):
-        """This engine's next run is under ``child``: its time cap, and its allowance
-        counted from this engine's work now."""
+        """This engine's next run is under ``child``: its time cap, its allowance counted
+        from this engine's work now, and its bound by a main lane (if any)."""
         lps, work = child.allowance
         self.cap, self._charged = child.cap, True
+        self.main_lane, self._side_from = child.main_lane, self.work()
         self.bound(None if lps is None else self.problem.n_lps() + lps, None if work is None else self.work() + work)
 
     def progress(self, running) -> float | None:
@@ -222,3 +236,31 @@ class Budget:
             there = 0.0 if lane is None else self._lane_from + lane
             return max(self.work(), there) / self.first_bound
         return None
+
+
+class MainLane:
+    """What bounds a lane beside the first certificate's main lane: once the main lane
+    certified, the side lane may spend SIDE_LANE_SHARE times the LP work the main lane
+    took (``main_work()``: its work so far), else what its budget allows. Counted work, so
+    the side lane's run is the same with any number of threads: with one it runs after
+    the main lane, the bound known; beside it, it waits before a solve that the bound might
+    forbid until the main lane has done more work or ended."""
+
+    def __init__(self, main_work):
+        self.main_work = main_work
+        self.limit = None  # the side lane's work allowed, once the main lane ended (inf: no bound)
+        self.done = threading.Event()
+
+    def ended(self, certified: bool):
+        """The main lane ended (``certified``: the search has a certified state)."""
+        self.limit = SIDE_LANE_SHARE * self.main_work() if certified else math.inf
+        self.done.set()
+
+    def reached(self, work) -> bool:
+        """The side lane, having spent ``work``, may not go on. Never true inside a solve
+        that began allowed: the main lane's work only grows."""
+        while not self.done.is_set():
+            if work < SIDE_LANE_SHARE * self.main_work():
+                return False  # allowed whatever the main lane does next
+            self.done.wait(EVALUATION_SLICE)
+        return work >= self.limit

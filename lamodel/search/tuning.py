@@ -150,6 +150,10 @@ WORK_PER_BLOCK = 4.0e5
 #: ends at FIRST_WORK times that work bound (in space, the cone programs' bound below), each
 #: lane with what the alternation left of it: twice the most measured when it was set.
 FIRST_WORK = 8.0
+#: Once the first certificate's main lane (plan.IF_STALLED) certifies, the lane beside it
+#: may spend this many times the LP work the main lane took: at 4 the dilatancy lane's lower
+#: state of a 510-block wall (mu 0.9) was lost.
+SIDE_LANE_SHARE = 8.0
 #: BLAS threads while the search runs (numpy's dot products of its LP-sized vectors): more
 #: threads spin between products and cost CPU but save no time, and one thread makes those sums
 #: the same on any machine.

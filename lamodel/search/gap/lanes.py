@@ -128,7 +128,8 @@ class Lanes:
         left (their bound their own, so the answer does not depend on the threads), merged
         after ``here``. The search goes on from the bases of a ``there`` lane that certified
         a lower alpha than ``here`` (why: docs/method/evidence.md). The ``there`` lanes stop
-        at the search's time cap, not at the first certificate's bound
+        at the search's time cap, not at the first certificate's bound, and once ``here``
+        certified at SIDE_LANE_SHARE times its work
         (:meth:`~lamodel.search.budget.Budget.side_lane`)."""
         e, budget = self.engine, self.engine.budget
         p = e.problem
@@ -141,6 +142,9 @@ class Lanes:
                 here.run(e, start)
             except Stopped as stop:  # our bound or the deadline: after the other lanes are merged
                 raised.append(stop)
+            finally:
+                if side.main_lane is not None:  # the side lanes' bound, from the work this lane took
+                    side.main_lane.ended(e.record.best is not None)
 
         snap = self.snapshot()
         tasks = [(run_pure, (snap, lane, start, side)) for lane in there]
