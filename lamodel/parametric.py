@@ -120,7 +120,8 @@ def study_from_dict(spec: dict, structure: Structure, where: str = "study spec")
     if "load_angle" in vary:
         grid.append(("load_angle", numbers(vary["load_angle"], f"{where}: vary.load_angle")))
     if in_space(structure):  # what a study changes in space: mu, fc, the load's heading, mu at random
-        for key, planar in (("dead_force", "dead_force" in vary), ("random.size", "size" in (spec.get("random") or {}) if isinstance(spec.get("random"), dict) else False)):
+        sizes = isinstance(spec.get("random"), dict) and "size" in spec["random"]
+        for key, planar in (("dead_force", "dead_force" in vary), ("random.size", sizes)):
             if planar:
                 raise InputError(f"{where}: {key} varies planar structures only; expected mu, fc, load_angle "
                                  f"(about the vertical) or random.mu for '{structure.name}' in space")

@@ -9,7 +9,8 @@ the search's only bound. Every solve of an engine reads its budget's :attr:`Budg
 at the call (HiGHS's interrupt callback, Clarabel's time limit): it expires at the time
 cap, a stop, or once the work bounds that apply are spent, between two solves. Lanes run
 elsewhere are given child budgets (:meth:`Budget.share`, :meth:`Budget.side_lane`, the
-latter bounded by the main lane's work once it certifies: :class:`MainLane`); the Ipopt polish is given the time the search leaves it (:meth:`Budget.reserve`).
+latter bounded by the main lane's work once it certifies: :class:`MainLane`); the Ipopt
+polish is given the time the search leaves it (:meth:`Budget.reserve`).
 """
 from __future__ import annotations
 
