@@ -234,18 +234,30 @@ def _without(names):
     plan.PUBLISHED = cut(plan.PUBLISHED)
 
 
-def _tune(assignments):
-    """NAME=VALUE: a constant of lamodel.search.tuning set for this run, in every module
-    that holds it (to show its effect across the families)."""
-    import sys
+def _assignments(items):
+    """--tuning NAME=VALUE items as (name, value), checked here, before any case runs."""
     import lamodel.search.tuning as tuning
-    for item in assignments:
+    out = []
+    for item in items:
         name, _, value = item.partition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            raise SystemExit(f"--tuning {item}: expected NAME=NUMBER") from None
         if not hasattr(tuning, name):
             raise SystemExit(f"--tuning {item}: no constant {name} in lamodel.search.tuning")
+        out.append((name, number))
+    return tuple(out)
+
+
+def _tune(assignments):
+    """(name, value) pairs: a constant of lamodel.search.tuning set for this run, in every
+    module that holds it (to show its effect across the families)."""
+    import sys
+    for name, value in assignments:
         for module in list(sys.modules.values()):
             if getattr(module, "__name__", "").startswith("lamodel") and hasattr(module, name):
-                setattr(module, name, float(value))
+                setattr(module, name, value)
 
 
 def _run(spec, all_methods, total_work, queue, without=(), tuning=()):
@@ -364,6 +376,7 @@ def main(argv=None):
     ap.add_argument("--write", metavar="DIR", help="write each case's structure file (CASE.json) to DIR, solve none "
                     "(then: lamodel solve DIR/CASE.json)")
     args = ap.parse_args(argv)
+    tuned = _assignments(args.tuning)
     all_below = args.all_below
     wanted = set(filter(None, args.families.split(",")))
     from lamodel.io.files import atomic_write_text
@@ -381,7 +394,7 @@ def main(argv=None):
         if args.max_blocks is not None and nb > args.max_blocks:
             continue
         row = dict(family=fam, case=name, **run_case(spec, nb <= all_below, args.timeout, args.total_work,
-                                                     filter(None, args.without.split(",")), args.tuning))
+                                                     filter(None, args.without.split(",")), tuned))
         rows.append(row)
         print(f"{fam:9s} {name:26s} {nb:5d} blocks  {row['status']:13s} alpha {row.get('alpha', np.nan):.6f}  "
               f"{row.get('path', ''):21s} first {row.get('t_first', np.nan):6.2f} s  best "
