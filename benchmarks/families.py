@@ -367,6 +367,7 @@ def main(argv=None):
     ap.add_argument("--lanes", action="store_true",
                     help="also print the lane table: which lane gave the final best, and each phase's share of the time")
     ap.add_argument("--max-blocks", type=int, default=None, help="only the cases with at most this many blocks")
+    ap.add_argument("--cases", default="", help="comma-separated case names to run (default: all)")
     ap.add_argument("--without", default="",
                     help="comma-separated strategies left out of the plan (their names in runs.csv's path, "
                          "e.g. continuation): what the families lose without a lane")
@@ -379,11 +380,12 @@ def main(argv=None):
     tuned = _assignments(args.tuning)
     all_below = args.all_below
     wanted = set(filter(None, args.families.split(",")))
+    named = set(filter(None, args.cases.split(",")))
     from lamodel.io.files import atomic_write_text
     from lamodel.io.jsonspec import structure_from_json
     rows = []
     for fam, name, build in cases(args.quick):
-        if wanted and fam not in wanted:
+        if (wanted and fam not in wanted) or (named and name not in named):
             continue
         spec = build()
         if args.write:

@@ -7,12 +7,14 @@ solves and seconds to the first certificate and to the best, the whole process's
     python benchmarks/large_walls.py --sizes 80x25 --mus 0.3,0.65,0.75,0.9
     python benchmarks/large_walls.py --sizes 40x25 --mus 0.9 --orders written,shuffled,ground-first
     python benchmarks/large_walls.py --sizes 20x15 --mus 0.9 --side-share inf    # no side-lane bound
+    python benchmarks/large_walls.py --sizes 80x25 --mus 0.65 --tuning MAIN_LANE_SHARE=2
 
 The walls are those of ``benchmarks/families.py`` (``--orders``: the same wall written
 another way, its ``_reordered``). A case past ``--timeout`` seconds is stopped and
 reported so. LP solves do not depend on the machine's load; seconds do. ``--side-share``
 replaces SIDE_LANE_SHARE (lamodel/search/tuning.py) in the solving process ("inf": the
-lane beside the first certificate bounded by the first certificate's work alone).
+lane beside the first certificate bounded by the first certificate's work alone);
+``--tuning NAME=VALUE`` any constant of lamodel/search/tuning.py.
 A benchmark, not a test: nothing is asserted.
 """
 from __future__ import annotations
@@ -38,13 +40,13 @@ def spec(courses, blocks, mu, order):
     return _wall(courses, blocks, mu, name=name) if order == "written" else _reordered(courses, blocks, mu, order, name)
 
 
-def child(path, out, workers, share):
-    """In the solving process: the command line's solve, the search's outcome kept; prints
-    one JSON line of what the table needs."""
+def child(path, out, workers, tuned):
+    """In the solving process: the command line's solve (``tuned``: NAME=VALUE,... set
+    first), the search's outcome kept; prints one JSON line of what the table needs."""
+    from families import _assignments, _tune
     from lamodel import cli
-    from lamodel.search import budget, driver
-    if share is not None:
-        budget.SIDE_LANE_SHARE = float(share)
+    from lamodel.search import driver
+    _tune(_assignments(filter(None, tuned.split(","))))
     found = {}
     solve = driver.solve
 
@@ -64,12 +66,12 @@ def child(path, out, workers, share):
                           by=str(best[2]), alpha=float(o.best.alpha) if o is not None and o.best else None)))
 
 
-def run(spec_, workers, share, timeout):
+def run(spec_, workers, tuned, timeout):
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{spec_['name']}.json"
         path.write_text(json.dumps(spec_))
         cmd = [sys.executable, __file__, "--child", str(path), str(Path(tmp) / "out"),
-               "" if workers is None else str(workers), share or ""]
+               "" if workers is None else str(workers), tuned]
         t = time.perf_counter()
         try:
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=ROOT)
@@ -94,19 +96,25 @@ def main(argv=None):
     ap.add_argument("--orders", default="written", help="of written, shuffled, ground-first, renamed")
     ap.add_argument("--workers", type=int, default=None, help="the command line's --workers (default: its own)")
     ap.add_argument("--side-share", default=None, help="SIDE_LANE_SHARE in the solving process (inf: no bound)")
+    ap.add_argument("--tuning", action="append", default=[], metavar="NAME=VALUE",
+                    help="a constant of lamodel.search.tuning set in the solving process (repeatable)")
     ap.add_argument("--timeout", type=float, default=180.0, help="seconds before a case is stopped")
     ap.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        path, out, workers, share = args.child
-        return child(path, out, int(workers) if workers else None, share or None)
+        path, out, workers, tuned = args.child
+        return child(path, out, int(workers) if workers else None, tuned)
+    from families import _assignments
+    tuned = list(args.tuning) + ([] if args.side_share is None else [f"SIDE_LANE_SHARE={args.side_share}"])
+    _assignments(tuned)  # checked here, before any case runs
+    tuned = ",".join(tuned)
     print(f"{'case':22s} {'order':13s} {'LPs first':>9s} {'s first':>8s} {'LPs best':>8s} {'s best':>8s} "
           f"{'process s':>9s} {'alpha':>9s}  best by", flush=True)
     for size in args.sizes.split(","):
         courses, blocks = (int(v) for v in size.split("x"))
         for mu in (float(m) for m in args.mus.split(",")):
             for order in args.orders.split(","):
-                r = run(spec(courses, blocks, mu, order), args.workers, args.side_share, args.timeout)
+                r = run(spec(courses, blocks, mu, order), args.workers, tuned, args.timeout)
                 name = f"bond{courses}x{blocks}_mu{mu:g}"
                 if "alpha" not in r:
                     print(f"{name:22s} {order:13s} {r['status']} after {r['total']:.1f} s", flush=True)
