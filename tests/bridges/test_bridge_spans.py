@@ -145,3 +145,9 @@ def test_mortar_between_the_rings_leaves_alpha_unchanged_where_they_do_not_separ
     assert ring_interfaces_moving(dry) == 0
     bonded = outcome(read_bridge(spec(rough, ring={**rough["ring"], "cohesion": 50.0, "ft": 20.0})), -1.5)
     assert bonded.best.alpha == pytest.approx(dry.best.alpha, rel=1e-6)
+
+
+def test_the_picture_of_several_spans_draws_every_pier(tmp_path):
+    from lamodel.bridges.picture import plot_bridge
+    path = plot_bridge(read_bridge(spec()), tmp_path / "two.png")
+    assert (tmp_path / "two.png").stat().st_size > 10_000 and path.endswith("two.png")
