@@ -1,5 +1,5 @@
-"""A masonry arch bridge as its assessor describes it (JSON, planar, one span), read and
-checked: every bad value is one line naming its field::
+"""A masonry arch bridge as its assessor describes it (JSON, planar, one span or several on
+piers), read and checked: every bad value is one line naming its field::
 
     {"name": "prestwood", "units": {"length": "m", "force": "kN"},
      "span": 6.55, "rise": 1.43, "width": 3.8,
@@ -23,6 +23,11 @@ each lead-axle position of ``positions`` (default: across the span,
 :data:`~lamodel.search.tuning.BRIDGE_POSITIONS` of them). The ring's ``fc`` is its masonry's
 compressive strength (force per length squared; omitted: no crushing), which bounds every
 joint of the ring and its seats on the abutments (:mod:`lamodel.formulation.joints`).
+The ring's ``cohesion`` and ``ft`` are the mortar's bond between its rings (every ring
+interface; the radial joints stay dry). Several spans: ``"spans": [{"span", "rise",
+"shape"}, ..]`` left to right instead of ``span``, ``rise``, ``shape``, and ``"piers":
+[{"height", "width", "kind"}, ..]``, one between each two (:mod:`.deck`); x = 0 is then the
+middle of the bridge and ``fill.depth`` is over the highest crown.
 ``source`` (text, or an object of field -> citation) records where the numbers come from;
 it is carried into the built file's description, never read as a value.
 """
@@ -66,7 +71,9 @@ class Pier:
 
 @dataclass
 class Bridge:
-    """One span: a segmental arch ring on rigid abutments under fill (module doc)."""
+    """A bridge: an arch ring on abutments under fill, one span or several on piers (module
+    doc; with several, ``span`` is the length between the outer springings, ``rise`` the
+    highest span's, and :meth:`part` each span)."""
 
     name: str
     span: float
