@@ -11,8 +11,8 @@ import numpy as np
 from ..search.tuning import BRIDGE_POSITIONS
 from .description import Bridge, lateral_coefficient, passive_coefficient
 from .fill import dead_loads, live_loads, restraints
-from .backing import backing_blocks
-from .ring import abutments, voussoirs
+from .deck import deck_blocks
+from .ring import voussoir_id
 
 
 def positions(bridge: Bridge) -> list:
@@ -39,8 +39,11 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
             loads += live
     crushing = f", fc {bridge.fc:g}" if bridge.fc is not None else ", no crushing"
     skew = f", skew {bridge.skew:g} deg (not modelled)" if bridge.skew else ""
-    text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: span "
-            f"{bridge.span:g}, rise {bridge.rise:g}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
+    arches = (f"span {bridge.span:g}, rise {bridge.rise:g}" if not bridge.piers else
+              "spans " + ", ".join(f"{s:g} (rise {r:g}, {shape})" for s, r, shape in bridge.spans) + " on piers "
+              + ", ".join(f"{p.width:g} wide, {p.height:g} high ({p.kind})" for p in bridge.piers))
+    text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: "
+            f"{arches}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
             f"{bridge.voussoirs} voussoirs{crushing}), width {bridge.width:g}{skew}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
             f"unit weight {bridge.fill_weight:g}, phi {bridge.phi:g} deg, lateral {bridge.lateral} "
             f"(K = {lateral_coefficient(bridge):.4g}), passive {bridge.passive:g} K_p "
@@ -55,8 +58,20 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
     spec["loads"] = loads
     if passive:
         spec["restraints"] = restraints(bridge)
-    spec["blocks"] = voussoirs(bridge) + backing_blocks(bridge) + abutments(bridge)
+    blocks = deck_blocks(bridge)
+    spec["blocks"] = blocks["voussoirs"] + blocks["backing"] + blocks["foundations"]
+    if bridge.cohesion or bridge.ft:
+        spec["joints"] = ring_bond(bridge)
     return spec
+
+
+def ring_bond(bridge: Bridge) -> list:
+    """The mortar between the rings: ``joints`` entries (:mod:`lamodel.io.jsonspec`) giving
+    every ring interface the ring's ``cohesion`` and ``ft``; the radial joints stay dry."""
+    bond = {key: value for key, value in (("cohesion", bridge.cohesion), ("ft", bridge.ft)) if value}
+    prefixes = [f"s{k + 1}" for k in range(len(bridge.spans))] if bridge.piers else [""]
+    return [{"between": [p + voussoir_id(bridge, k, i), p + voussoir_id(bridge, k + 1, i)], **bond}
+            for p in prefixes for k in range(bridge.rings - 1) for i in range(bridge.voussoirs)]
 
 
 def case_positions(bridge: Bridge) -> dict:

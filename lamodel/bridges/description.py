@@ -1,5 +1,5 @@
-"""A masonry arch bridge as its assessor describes it (JSON, planar, one span), read and
-checked: every bad value is one line naming its field::
+"""A masonry arch bridge as its assessor describes it (JSON, planar, one span or several on
+piers), read and checked: every bad value is one line naming its field::
 
     {"name": "prestwood", "units": {"length": "m", "force": "kN"},
      "span": 6.55, "rise": 1.43, "width": 3.8,
@@ -23,6 +23,11 @@ each lead-axle position of ``positions`` (default: across the span,
 :data:`~lamodel.search.tuning.BRIDGE_POSITIONS` of them). The ring's ``fc`` is its masonry's
 compressive strength (force per length squared; omitted: no crushing), which bounds every
 joint of the ring and its seats on the abutments (:mod:`lamodel.formulation.joints`).
+The ring's ``cohesion`` and ``ft`` are the mortar's bond between its rings (every ring
+interface; the radial joints stay dry). Several spans: ``"spans": [{"span", "rise",
+"shape"}, ..]`` left to right instead of ``span``, ``rise``, ``shape``, and ``"piers":
+[{"height", "width", "kind"}, ..]``, one between each two (:mod:`.deck`); x = 0 is then the
+middle of the bridge and ``fill.depth`` is over the highest crown.
 ``source`` (text, or an object of field -> citation) records where the numbers come from;
 it is carried into the built file's description, never read as a value.
 """
@@ -35,11 +40,14 @@ from dataclasses import dataclass, field
 from ..errors import InputError
 from ..io.jsonfields import json_object, load_spec, number, units
 
-TOP_FIELDS = ("name", "description", "source", "units", "shape", "span", "rise", "width", "skew", "ring", "abutments", "backing", "fill", "load")
+TOP_FIELDS = ("name", "description", "source", "units", "shape", "span", "rise", "spans", "piers", "width", "skew", "ring",
+              "abutments", "backing", "fill", "load")
+SPAN_FIELDS = ("span", "rise", "shape")
+PIER_FIELDS = ("height", "width", "kind")
 BACKING_FIELDS = ("height",)
-RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu", "fc")
+RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu", "fc", "cohesion", "ft")
 ABUTMENT_FIELDS = ("height", "width", "kind")
-#: Abutments: rigid supports, or masonry blocks free to slide and turn on a rigid ground.
+#: Abutments and piers: rigid supports, or masonry blocks free to slide and turn on a rigid ground.
 ABUTMENT_KINDS = ("rigid", "block")
 FILL_FIELDS = ("depth", "unit_weight", "phi", "lateral", "passive", "spread")
 LOAD_FIELDS = ("force", "axles", "patch", "positions")
@@ -51,9 +59,21 @@ SHAPES = ("segmental", "elliptical", "pointed")
 LATERAL = ("at_rest", "active", "none")
 
 
+@dataclass(frozen=True)
+class Pier:
+    """A pier between two spans: ``height`` below the springings, ``width`` between the
+    two intrados springings, rigid or a block on the ground."""
+
+    height: float
+    width: float
+    kind: str = "rigid"
+
+
 @dataclass
 class Bridge:
-    """One span: a segmental arch ring on rigid abutments under fill (module doc)."""
+    """A bridge: an arch ring on abutments under fill, one span or several on piers (module
+    doc; with several, ``span`` is the length between the outer springings, ``rise`` the
+    highest span's, and :meth:`part` each span)."""
 
     name: str
     span: float
@@ -67,6 +87,10 @@ class Bridge:
     masonry_weight: float = 20.0     # unit weight of the ring (force / length^3)
     mu: float = 0.6                  # friction of the ring's joints
     fc: float | None = None          # the ring's compressive strength (None: no crushing)
+    cohesion: float = 0.0            # mortar bond on the ring interfaces: shear cohesion
+    ft: float = 0.0                  # and tensile strength (force / length^2)
+    spans: tuple = ()                # several spans: (span, rise, shape) each, left to right
+    piers: tuple = ()                # the Pier between each two spans
     abutment_height: float = 1.0
     abutment_width: float = 1.0
     abutment_kind: str = "rigid"
@@ -106,10 +130,20 @@ class Bridge:
         return self.rise + self.thickness + self.fill_depth
 
     def mirrored(self) -> "Bridge":
-        """The same bridge, loads at mirrored positions (the arch is symmetric)."""
+        """The same bridge mirrored about x = 0: spans and piers in reverse order, loads at
+        mirrored positions (each arch is symmetric)."""
         import dataclasses
-        return dataclasses.replace(self, axles=tuple(-a for a in self.axles),
+        return dataclasses.replace(self, axles=tuple(-a for a in self.axles), spans=self.spans[::-1],
+                                   piers=self.piers[::-1],
                                    positions=None if self.positions is None else tuple(-x for x in self.positions))
+
+    def part(self, k: int) -> "Bridge":
+        """Span k of several as a one-span bridge (x = 0 at its own mid-span), its fill depth
+        such that the road is level over every span."""
+        import dataclasses
+        span, rise, shape = self.spans[k]
+        return dataclasses.replace(self, span=span, rise=rise, shape=shape, spans=(), piers=(),
+                                   fill_depth=self.road - rise - self.thickness)
 
 
 def _positive(obj, key, at, default=None, minimum=0.0, strict=True):
@@ -141,16 +175,9 @@ def read_bridge(source) -> Bridge:
     """The :class:`Bridge` of a JSON file (path) or parsed dict; InputError naming the field."""
     spec, where = load_spec(source)
     json_object(spec, where, "the bridge", TOP_FIELDS)
-    span = _positive(spec, "span", where)
-    rise = _positive(spec, "rise", where)
-    shape = spec.get("shape", "segmental")
-    if shape not in SHAPES:
-        raise InputError(f"{where}: 'shape' is {json.dumps(shape)[:30]}; expected one of {', '.join(SHAPES)}")
-    if shape == "segmental" and rise > span / 2 * (1 + 1e-12):
-        raise InputError(f"{where}: 'rise' is {rise:g}; expected at most span / 2 = {span / 2:g} (a segmental or "
-                         "semicircular arch; \"shape\": \"pointed\" for a higher one)")
-    if shape == "pointed" and rise <= span / 2:
-        raise InputError(f"{where}: 'rise' is {rise:g}; expected more than span / 2 = {span / 2:g} for a pointed arch")
+    spans, piers = _spans(spec, where)
+    span = sum(s[0] for s in spans) + sum(p.width for p in piers)   # springing to springing
+    rise, shape = max(s[1] for s in spans), spans[0][2]
     width = _positive(spec, "width", where, 1.0)
     skew = _positive(spec, "skew", where, 0.0, strict=False)
     if skew >= 90:
@@ -165,14 +192,18 @@ def read_bridge(source) -> Bridge:
                masonry_weight=_positive(ring, "unit_weight", at, Bridge.masonry_weight),
                mu=_positive(ring, "mu", at, Bridge.mu, strict=False),
                fc=_positive(ring, "fc", at, None) if "fc" in ring else None,
+               cohesion=_positive(ring, "cohesion", at, 0.0, strict=False), ft=_positive(ring, "ft", at, 0.0, strict=False),
+               spans=spans if piers else (), piers=piers,
                units=units(spec, where), description=str(spec.get("description", "")),
                source=_source(spec, where))
-    if b.shape == "pointed" and b.voussoirs % 2:
-        raise InputError(f"{at}: 'voussoirs' is {b.voussoirs}; expected an even number for a pointed arch (a joint "
-                         "at the apex)")
-    if b.thickness >= b.least_radius:
-        raise InputError(f"{at}: 'thickness' is {b.thickness:g}; expected less than the intrados' least radius of "
-                         f"curvature {b.least_radius:.4g}")
+    for k in range(len(spans)):
+        one = b.part(k) if piers else b
+        if one.shape == "pointed" and b.voussoirs % 2:
+            raise InputError(f"{at}: 'voussoirs' is {b.voussoirs}; expected an even number for a pointed arch (a "
+                             "joint at the apex)")
+        if b.thickness >= one.least_radius:
+            raise InputError(f"{at}: 'thickness' is {b.thickness:g}; expected less than the intrados' least radius "
+                             f"of curvature {one.least_radius:.4g}")
     abut = json_object(spec.get("abutments", {}), f"{where}: abutments", "'abutments'", ABUTMENT_FIELDS)
     at = f"{where}: abutments"
     b.abutment_height = _positive(abut, "height", at, b.thickness * 2)
@@ -190,6 +221,50 @@ def read_bridge(source) -> Bridge:
     if "load" in spec:
         _read_load(b, json_object(spec["load"], f"{where}: load", "'load'", LOAD_FIELDS), f"{where}: load")
     return b
+
+
+def _arch(obj: dict, at: str) -> tuple:
+    """(span, rise, shape) of one arch, checked."""
+    span, rise = _positive(obj, "span", at), _positive(obj, "rise", at)
+    shape = obj.get("shape", "segmental")
+    if shape not in SHAPES:
+        raise InputError(f"{at}: 'shape' is {json.dumps(shape)[:30]}; expected one of {', '.join(SHAPES)}")
+    if shape == "segmental" and rise > span / 2 * (1 + 1e-12):
+        raise InputError(f"{at}: 'rise' is {rise:g}; expected at most span / 2 = {span / 2:g} (a segmental or "
+                         "semicircular arch; \"shape\": \"pointed\" for a higher one)")
+    if shape == "pointed" and rise <= span / 2:
+        raise InputError(f"{at}: 'rise' is {rise:g}; expected more than span / 2 = {span / 2:g} for a pointed arch")
+    return span, rise, shape
+
+
+def _spans(spec: dict, where: str) -> tuple:
+    """The arches, left to right, and the piers between them: one span (``span``, ``rise``,
+    ``shape``) or ``spans`` and ``piers``, one pier fewer than spans."""
+    if "spans" not in spec:
+        if "piers" in spec:
+            raise InputError(f"{where}: 'piers' without 'spans'; expected \"spans\": [{{\"span\": ..., \"rise\": ...}}, "
+                             "...] with a pier between each two")
+        return (_arch(spec, where),), ()
+    given = [key for key in ("span", "rise", "shape") if key in spec]
+    if given:
+        raise InputError(f"{where}: '{given[0]}' beside 'spans'; expected it inside each entry of 'spans'")
+    spans, piers = spec["spans"], spec.get("piers", [])
+    if not isinstance(spans, list) or not spans:
+        raise InputError(f"{where}: 'spans' is {json.dumps(spans)[:40]}; expected a list of {{\"span\", \"rise\"}}")
+    if not isinstance(piers, list) or len(piers) != len(spans) - 1:
+        raise InputError(f"{where}: 'piers' is {json.dumps(piers)[:40]}; expected a list of {len(spans) - 1} "
+                         f"pier(s), one between each two of the {len(spans)} spans")
+    arches = tuple(_arch(json_object(s, f"{where}: spans[{k}]", "a span", SPAN_FIELDS), f"{where}: spans[{k}]")
+                   for k, s in enumerate(spans))
+    out = []
+    for k, raw in enumerate(piers):
+        at = f"{where}: piers[{k}]"
+        pier = json_object(raw, at, "a pier", PIER_FIELDS)
+        kind = pier.get("kind", "rigid")
+        if kind not in ABUTMENT_KINDS:
+            raise InputError(f"{at}: 'kind' is {json.dumps(kind)[:30]}; expected one of {', '.join(ABUTMENT_KINDS)}")
+        out.append(Pier(_positive(pier, "height", at), _positive(pier, "width", at), kind))
+    return arches, tuple(out)
 
 
 def _source(spec: dict, where: str) -> dict:

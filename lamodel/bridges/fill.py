@@ -26,8 +26,7 @@ import numpy as np
 
 from ..search.tuning import BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES
 from .description import Bridge, lateral_coefficient, passive_coefficient
-from .backing import bed
-from .ring import restraint_support
+from .deck import deck_bed, deck_blocks, restraint_support, span_centre
 
 
 def _linear_centroid(lo: float, hi: float, z_lo: float, z_hi: float) -> float:
@@ -43,15 +42,23 @@ def _on_chord(p, q, coordinate: int, value: float):
 
 def chords(bridge: Bridge):
     """(block, left end, right end) of each segment of the fill's bed: the extrados
-    chords, the backing's top where there is backing (:mod:`.backing`)."""
-    return bed(bridge)
+    chords, the backing's top where there is backing (:mod:`.backing`), the piers' tops."""
+    return deck_bed(bridge)
+
+
+def _on_support(bridge: Bridge) -> set:
+    """The bodies of the bed that are supports (a rigid pier's top): they carry their load
+    to the ground, and take none in the structure."""
+    return {b["id"] for b in deck_blocks(bridge)["foundations"] if b["support"]}
 
 
 def dead_loads(bridge: Bridge) -> list:
     """The fill's weight and horizontal pressure on the ring: JSON dead point loads."""
     out, road, k = [], bridge.road, lateral_coefficient(bridge)
-    unit = bridge.fill_weight * bridge.width
+    unit, rigid = bridge.fill_weight * bridge.width, _on_support(bridge)
     for block, p, q in chords(bridge):
+        if block in rigid:
+            continue
         za, zb = road - p[1], road - q[1]
         if unit > 0 and za + zb > 0:
             x = _linear_centroid(p[0], q[0], za, zb)
@@ -72,7 +79,7 @@ def _horizontal(bridge: Bridge, p, q, per_depth: float):
         return None
     z_lo, z_hi = bridge.road - lo[1], bridge.road - hi[1]
     y = _linear_centroid(lo[1], hi[1], z_lo, z_hi)
-    side = 1.0 if (p[0] + q[0]) < 0 else -1.0
+    side = 1.0 if (p[0] + q[0]) / 2 < span_centre(bridge, (p[0] + q[0]) / 2) else -1.0
     return _on_chord(p, q, 1, y), side * per_depth * dy * (z_lo + z_hi) / 2, dy
 
 
@@ -80,10 +87,10 @@ def restraints(bridge: Bridge) -> list:
     """The passive restraint on every chord (module doc): JSON restraints from the
     abutment on the chord's side, pushing towards mid-span."""
     extra = bridge.passive * passive_coefficient(bridge.phi) - lateral_coefficient(bridge)
-    out = []
+    out, rigid = [], _on_support(bridge)
     for block, p, q in chords(bridge):
         h = _horizontal(bridge, p, q, extra * bridge.fill_weight * bridge.width)
-        if h is None:
+        if h is None or block in rigid:
             continue
         side = "left" if h[1] > 0 else "right"
         mid = ((p + q) / 2).tolist()
@@ -112,8 +119,9 @@ def live_loads(bridge: Bridge, lead: float, case: str) -> list:
         mine = owner >= 0
         np.add.at(force, owner[mine], q[mine])
         np.add.at(moment, owner[mine], q[mine] * xs[mine])
+    rigid = _on_support(bridge)
     return [{"block": block, "at": _on_chord(p, q, 0, moment[i] / force[i]), "force": [0.0, -force[i]],
-             "kind": "live", "case": case} for i, (block, p, q) in enumerate(ch) if force[i] > 0]
+             "kind": "live", "case": case} for i, (block, p, q) in enumerate(ch) if force[i] > 0 and block not in rigid]
 
 
 def _samples(bridge: Bridge, ch, reach: float):

@@ -1,5 +1,5 @@
-"""The picture of a bridge as built, before any solve: the ring's voussoirs, the
-abutments, the fill up to the road, the passive restraints and one axle position with its
+"""The picture of a bridge as built, before any solve: the rings' voussoirs, the
+abutments and piers, the fill up to the road, the passive restraints and one axle position with its
 dispersal through the fill (matplotlib, Agg)."""
 from __future__ import annotations
 
@@ -9,44 +9,43 @@ import numpy as np
 
 from ..output.figures import save_figure
 from .build import positions
+from .deck import deck_bed, deck_blocks, layout
 from .description import Bridge
 from .fill import restraints
-from .backing import backing_blocks
-from .ring import abutments, extrados, voussoirs
 
 
 def draw_bridge(ax, bridge: Bridge, lead: float | None = None, passive: bool = True):
     """Draw the bridge on a matplotlib axis; the axles at ``lead`` (default: a quarter of the
     way through the description's positions)."""
     from matplotlib.patches import Polygon
-    ext = extrados(bridge)
-    abut = {b["id"]: np.array(b["vertices"]) for b in abutments(bridge)}
-    left, right = abut["abutment_left"], abut["abutment_right"]
-    ground = abut.pop("ground", None)   # under abutments that are blocks
-    if ground is not None:
-        ax.add_patch(Polygon(ground, closed=True, facecolor="#7f7f7f", edgecolor="#404040", hatch="xx", lw=0.6))
-    fill = np.vstack([[[left[:, 0].min(), left[:, 1].max()]], ext, [[right[:, 0].max(), right[:, 1].max()]],
-                      [[right[:, 0].max(), bridge.road], [left[:, 0].min(), bridge.road]]])
+    blocks = deck_blocks(bridge)
+    bed = deck_bed(bridge)
+    ext = np.array([p for _, p, _ in bed] + [bed[-1][2]])
+    feet = np.vstack([b["vertices"] for b in blocks["foundations"] if not b["id"].startswith("ground")])
+    left, right = feet[:, 0].min(), feet[:, 0].max()
+    fill = np.vstack([[[left, ext[0, 1]]], ext, [[right, ext[-1, 1]]], [[right, bridge.road], [left, bridge.road]]])
     ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", label="fill"))
-    for b in voussoirs(bridge):
+    for b in blocks["voussoirs"]:
         ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#d9a066", edgecolor="#5b3a1a", lw=0.6))
-    for b in backing_blocks(bridge):
+    for b in blocks["backing"]:
         ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#c9a27a", edgecolor="#5b3a1a", lw=0.6))
-    rigid = bridge.abutment_kind == "rigid"   # a support hatched; a block as masonry
-    for v in abut.values():
-        ax.add_patch(Polygon(v, closed=True, facecolor="#bfbfbf" if rigid else "#c9a27a", edgecolor="#404040",
-                             hatch="//" if rigid else None, lw=0.6))
+    for b in blocks["foundations"]:   # a support hatched (the ground darker); a block as masonry
+        ground = b["id"].startswith("ground")
+        ax.add_patch(Polygon(b["vertices"], closed=True, edgecolor="#404040", lw=0.6,
+                             facecolor="#7f7f7f" if ground else "#bfbfbf" if b["support"] else "#c9a27a",
+                             hatch="xx" if ground else "//" if b["support"] else None))
     ax.plot(fill[-2:, 0], fill[-2:, 1], color="black", lw=1.5)
+    size = min(part.span for part, _ in layout(bridge))   # arrows drawn to the shortest span's scale
     if passive:
         for r in restraints(bridge):
             x, y = r["at"]
-            ax.annotate("", xy=(x, y), xytext=(x - 0.06 * bridge.span * r["direction"][0], y),
+            ax.annotate("", xy=(x, y), xytext=(x - 0.06 * size * r["direction"][0], y),
                         arrowprops=dict(arrowstyle="->", color="#2e86c1", lw=0.8))
     lead = positions(bridge)[len(positions(bridge)) // 4] if lead is None else lead
     tan = math.tan(math.radians(bridge.spread))
     for offset in bridge.axles:
         x0, depth = lead + offset, bridge.road - ext[:, 1].min()
-        ax.annotate("", xy=(x0, bridge.road), xytext=(x0, bridge.road + 0.12 * bridge.span),
+        ax.annotate("", xy=(x0, bridge.road), xytext=(x0, bridge.road + 0.12 * size),
                     arrowprops=dict(arrowstyle="-|>", color="#c0392b", lw=1.5))
         for s in (-1, 1):
             ax.plot([x0 + s * bridge.patch / 2, x0 + s * (bridge.patch / 2 + depth * tan)],
