@@ -229,10 +229,6 @@ SUCCESSIVE_CONE_C_TOL, SUCCESSIVE_CONE_ALPHA_TOL = 1e-7, 1e-8
 #: statics' largest entry whatever tighter tolerance is asked: an interior-point statics
 #: holds its active rows to ~1e-8 only.
 CONE_ACTIVE = 1e-6
-#: In space the gap alternation ends a rho where alpha + rho gap falls by less than this
-#: (relative) a step: interior-point optima never repeat, they creep (a 4 x 8 tower: 284
-#: cone programs to a stall 0.694 where collapse states lie at 0.58).
-CONE_STALL = 1e-4
 #: In space, the same bound on the cone programs' work (Clarabel's iterations times
 #: rows^1.5, ConePrograms.work: about a minute per thousand blocks), at least
 #: WORK_FLOOR_CONE (about 10 s: a cone program costs far more than an LP).

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..highs import INF
 from ..tuning import (ACTIVE_TOLERANCES, ALTERNATION_MAX_STEPS, FORBID_ACTIVE, GAP_CERTIFY, GAP_FORBID, GAP_HOLD,
-                      IMPROVEMENT, NEAR_FLOW, RHO_MAIN)
+                      IMPROVEMENT, NEAR_FLOW, RHO_MAIN, STALL)
 from .certify import Certifier
 from .descent import Descent
 from .program import GapProgram
@@ -113,7 +113,7 @@ class Alternation:
                                 if best is None or st.alpha < best.alpha:
                                     best = st
                     obj = alpha + rho * gap
-                    if obj >= obj_prev - p.stall * max(1.0, abs(obj_prev)):
+                    if obj >= obj_prev - STALL * max(1.0, abs(obj_prev)):
                         break
                     obj_prev = obj
                     status, xn = p.statics(cost_lam=rho * p.gap_weights(xi, u))

@@ -33,7 +33,7 @@ from ..certify import residuals
 from ..highs import INF, HighsLP
 from ..options import Deadline
 from ..state import CollapseState
-from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LIGHT_BLOCK, LP_TOLERANCE, PUSH, STABLE_ALPHA, STALL, WORK_PER_BLOCK
+from ..tuning import CERTIFY_CAP_ROWS, FLOW_TOL, LIGHT_BLOCK, LP_TOLERANCE, PUSH, STABLE_ALPHA, WORK_PER_BLOCK
 from .program import CAPPED
 
 log = logging.getLogger(__name__)
@@ -58,8 +58,6 @@ class ScaledProblem:
     polish = True
     #: least alpha over S at or below this counts as zero (an exact LP vertex)
     stable_alpha = STABLE_ALPHA
-    #: the alternation's stall (:attr:`~.program.GapProgram.stall`): an LP vertex repeats exactly
-    stall = STALL
 
     def __init__(self, structure: Structure, deadline: Deadline | None = None):
         s = self._formulate(structure, deadline)

@@ -42,7 +42,7 @@ from ..certify3d import (CollapseState3D, align, mechanism_lp, passes, polish_me
 from ..cone import ConePrograms
 from ..options import Deadline
 from ..tuning import (ALIGN_CAP_ROWS, ALIGN_IPM_CAP, CONE_ACTIVE, CONE_DIRECTION_DECIMALS, CONE_FLOW_TOLS,
-                      CONE_LP_FIRST_POINTS, CONE_STALL, MECHANISMS_REMEMBERED, STABLE_ALPHA_CONE, WORK_FLOOR_CONE,
+                      CONE_LP_FIRST_POINTS, MECHANISMS_REMEMBERED, STABLE_ALPHA_CONE, WORK_FLOOR_CONE,
                       WORK_PER_BLOCK_CONE)
 
 log = logging.getLogger(__name__)
@@ -54,8 +54,6 @@ class ConeProblem:
     #: no Ipopt polish in space (the search's states are certified as they are)
     polish = False
     stable_alpha = STABLE_ALPHA_CONE
-    #: the alternation's stall: interior-point optima creep towards a partial optimum
-    stall = CONE_STALL
 
     def __init__(self, structure: Structure3D, deadline: Deadline | None = None, threads: int = 1):
         self.t0 = time.perf_counter()

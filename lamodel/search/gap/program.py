@@ -59,8 +59,6 @@ class GapProgram(Protocol):
     work_elsewhere: int
     #: least alpha over S at or below this counts as zero (the dead load stands alone)
     stable_alpha: float
-    #: the gap alternation ends a rho where alpha + rho gap falls by less than this (relative)
-    stall: float
     #: whether the driver polishes the search's states with Ipopt on eq. (5)
     polish: bool
 
