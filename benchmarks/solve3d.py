@@ -23,7 +23,9 @@ blocks below z = 0.5, those compas_cra's ``armadillo_cra.json`` flags; tolerance
 ``vault``: :func:`lamodel.geometry.barrel_vault` with its defaults; ``domeRxS``: a dome of R
 rings of S voussoirs (:func:`lamodel.geometry.dome`, other defaults); ``tower``: the
 circular tower of :func:`lamodel.geometry.tower` (16 staggered courses of 12 voussoirs, 192
-blocks, 2,976 contact points, mu 0.7, live load along +x); ``facade``:
+blocks, 2,976 contact points, mu 0.7, live load along +x); ``towerCxV`` the same with C
+courses of V voussoirs, options after dashes: ``-stack`` (no stagger), ``-dDEG`` (the load
+turned by DEG degrees in plan), ``-muM`` (e.g. ``tower8x8-stack-d22.5-mu0.5``); ``facade``:
 ``instances/facade.json``.
 Columns: blocks, contact points, the
 associative bound and the time of its cone program, the first certified alpha and its time,
@@ -55,13 +57,13 @@ def build(case: str, compas=None):
     from lamodel.geometry import box_building, running_bond_wall, seed_wall
     from lamodel.io.jsonspec import structure_from_json
     name, _, load = case.partition("-")
-    if name in ("vault", "facade", "tower") or name.startswith("dome"):
+    if name in ("vault", "facade") or name.startswith(("dome", "tower")):
         from lamodel.geometry import generators3d as G
         from lamodel.io.json3d import structure3d_from_spec
         if name == "vault":
             spec = G.barrel_vault()
-        elif name == "tower":
-            spec = G.tower()
+        elif name.startswith("tower"):
+            spec = _tower(name, load)
         elif name == "facade":
             from lamodel.io import read
             return read(ROOT / "instances" / "facade.json"), np.nan
@@ -97,6 +99,29 @@ def build(case: str, compas=None):
         w = -s.dead[:, 2] / np.sqrt(2)
         s.live = np.column_stack([w, w, np.zeros(s.n_blocks)])
     return s.validate(), closed
+
+
+def _tower(name: str, options: str) -> dict:
+    """The spec of a tower case: ``tower`` or ``towerCxV`` (C courses of V voussoirs), then
+    options joined by ``-``: ``stack`` (joints not staggered), ``dDEG`` (the live load
+    turned by DEG degrees in plan from +x), ``muM`` (friction M)."""
+    import math
+    from lamodel.geometry import generators3d as G
+    kw = {}
+    if name != "tower":
+        courses, _, per = name[5:].partition("x")
+        kw.update(courses=int(courses), per_course=int(per))
+    for opt in filter(None, options.split("-")):
+        if opt == "stack":
+            kw["stagger"] = False
+        elif opt.startswith("mu"):
+            kw["mu"] = float(opt[2:])
+        elif opt.startswith("d"):
+            turn = math.radians(float(opt[1:]))
+            kw["live_load"] = (math.cos(turn), math.sin(turn), 0.0)
+        else:
+            raise SystemExit(f"unknown tower option '{opt}' in '{name}-{options}'")
+    return G.tower(**kw)
 
 
 def main(argv=None):

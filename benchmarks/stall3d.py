@@ -3,6 +3,7 @@
 
     python benchmarks/stall3d.py --cases armadillo --compas DIR
     python benchmarks/stall3d.py --cases vault,dome3x6
+    python benchmarks/stall3d.py --cases tower,tower6x12-d30
 
 For each case (the names of ``benchmarks/solve3d.py``) it runs the associative cone
 program and the gap alternation from its statics (the search's first start), then, at the
