@@ -210,19 +210,6 @@ class HighsLP:
         self.h.addRows(rows.shape[0], lo, hi, rows.nnz, rows.indptr[:-1].astype(np.int32),
                        rows.indices.astype(np.int32), rows.data.astype(float))
 
-    def add_empty_cols(self, cost, lo, hi):
-        """Append columns with no entry in the rows so far (rows added next may use them);
-        HiGHS keeps its basis, the new columns nonbasic at a bound."""
-        self._usable()
-        cost, lo, hi = (np.asarray(v, float) for v in (cost, lo, hi))
-        k = cost.size
-        self.A = sp.hstack([self.A, sp.csc_matrix((self.m, k))], format="csc")
-        self.n = self.A.shape[1]
-        self.cost, self.lo, self.hi = np.r_[self.cost, cost], np.r_[self.lo, lo], np.r_[self.hi, hi]
-        c, col_lo, col_hi, b, b_hi = self._built
-        self._built = (np.r_[c, cost], np.r_[col_lo, lo], np.r_[col_hi, hi], b, b_hi)
-        self.h.addCols(k, cost, lo, hi, 0, np.zeros(k, np.int32), np.zeros(0, np.int32), np.zeros(0))
-
     def _changed(self, cur_lo, cur_hi, lo, hi, idx, change):
         """New bounds (lo, hi), passed to HiGHS by ``change`` where they differ from (cur_lo, cur_hi)."""
         self._usable()

@@ -51,9 +51,7 @@ def test_the_lps_optima_are_those_of_the_whole_polygon(fc):
         assert np.all(lazy.G @ s_f <= hi + 1e-8 * np.maximum(1.0, np.abs(hi)))
     if fc == 3.0:
         assert lazy.facet_rounds > 0  # facets beyond eq. 4's came into force
-    # the facets near the N of the optima visited (which vertices, and so how many, depends
-    # on the simplex path): well below the whole polygon
-    assert lazy.in_force.sum() < 0.6 * lazy.nr
+    assert lazy.in_force.sum() < lazy.nr / 2
 
 
 def test_bases_carry_the_facets_in_force_to_another_copy():
@@ -68,43 +66,3 @@ def test_bases_carry_the_facets_in_force_to_another_copy():
     assert got[0] == "optimal" and got[1] == pytest.approx(alpha, rel=1e-9)
     # warm: the carried basis, its rows mapped to this copy's order, is already optimal
     assert other.coh.n_solves == 1 and other.coh.h.getInfo().simplex_iteration_count == 0
-
-
-def test_the_statics_holds_only_the_facets_in_force():
-    lazy, full = problems(3.0)
-    status, x = lazy.statics()
-    assert status == "optimal"
-    # its rows: equilibrium and the yield rows in force; its columns: s_f, alpha, their sigmas
-    assert lazy.stat.m == 3 * lazy.nb + lazy.in_force.sum() < full.stat.m
-    assert lazy.stat.n == 3 * lazy.nc + 1 + lazy.in_force.sum()
-    # the search sees every sigma: those left out are the slacks their rows leave
-    exact = lazy.exact_statics()
-    s_f = exact[lazy.nl:lazy.nl + 3 * lazy.nc]
-    assert exact.shape == x.shape == (lazy.nr + 3 * lazy.nc + 1,)
-    np.testing.assert_allclose(lazy.w * exact[:lazy.nl], lazy.b - lazy.Y @ s_f, atol=1e-9)
-    assert exact[:lazy.nl].min() > -1e-9
-    y, z = lazy.statics_duals()
-    assert y.shape == (3 * lazy.nb + lazy.nr,) and z.shape == exact.shape
-    assert not z[:lazy.nl][~lazy.in_force].any()
-
-
-def test_a_statics_basis_saved_before_facets_came_in_loads_again():
-    lazy, _ = problems(3.0)
-    lazy.statics(maximize=True)
-    saved = lazy.save_bases(("stat",))
-    before = lazy.stat.m
-    lazy.statics(held=np.r_[np.zeros(lazy.nr - 1, bool), True])  # a facet held: it comes into force
-    assert lazy.stat.m > before
-    lazy.load_bases(saved, restart_cold=False)
-    status, x = lazy.statics(maximize=True)
-    assert status == "optimal" and x[-1] == pytest.approx(lazy.statics(maximize=True)[1][-1])
-
-
-def test_statics_bases_carry_to_another_copy():
-    lazy, _ = problems(3.0)
-    lazy.statics()
-    other, _ = problems(3.0)
-    other.restart(lazy.bases())
-    status, x = other.statics()
-    assert status == "optimal" and x[-1] == pytest.approx(lazy.statics()[1][-1], rel=1e-9)
-    assert other.stat.h.getInfo().simplex_iteration_count == 0

@@ -215,14 +215,6 @@ class ScaledProblem:
         x = np.maximum(self.stat.x(), 0.0)
         return status, x
 
-    def exact_statics(self):
-        """The last statics solve's x, exact from its final basis."""
-        return self.stat.exact_x()
-
-    def statics_duals(self):
-        """(row duals, reduced costs) of the last statics solve, exact from its final basis."""
-        return self.stat.exact_duals()
-
     def zeroed(self, held):
         """The lambdas (bool, 4 nc) that holding the yield rows ``held`` sets to zero."""
         out = np.zeros(self.nl, bool)
@@ -382,7 +374,7 @@ class ScaledProblem:
             return
         if status != "optimal":
             return
-        yield self.exact_statics(), u, xi, flow, ""  # equilibrium to round-off, not to HiGHS's tolerance
+        yield self.stat.exact_x(), u, xi, flow, ""  # equilibrium to round-off, not to HiGHS's tolerance
 
     def pushing_rows(self, state):
         """Reduced costs of the held lambdas (min alpha with the state's flow rows held):
@@ -390,7 +382,7 @@ class ScaledProblem:
         status, x = self.statics(held=state.flow)
         if status != "optimal":
             return None
-        _, z = self.statics_duals()
+        _, z = self.stat.exact_duals()
         zl = z[:self.nl]
         push = np.where(self.zeroed(state.flow) & (zl < -PUSH), -zl, 0.0)
         if not push.any():

@@ -5,7 +5,7 @@ A joint with the strengths of :mod:`lamodel.formulation.joints` has a bounded do
 longer a cone: the statics are written with explicit slacks instead of friction-cone
 generators.
 
-* **Statics**: unknowns ``(sigma, N, V, M, alpha)``, rows ``A s_f + alpha fbar = -f0`` and
+* **Statics**: columns ``(sigma, N, V, M, alpha)``, rows ``A s_f + alpha fbar = -f0`` and
   ``Y s_f + w sigma = b``, ``sigma >= 0``: the slack ``w sigma`` of a yield row is its own
   column (``w = max(1, |b|)``: a far facet's slack, of the size of the joint's crushing
   force, stays a number of the size of the forces in sigma, which the search measures
@@ -22,10 +22,8 @@ generators.
 * **Facets in force**: at a joint's N only the facets near it bind. The LPs begin with
   the slides and each half's facet at the tension end (eq. 4's hinge rows as f_c grows)
   and take in the facets an optimum violates, re-solving warm until none is: the
-  fictitious LPs as appended rows, the statics as appended rows with their sigma
-  columns (a facet not in force is a row with a free slack, which says nothing: left
-  out, its sigma follows from s_f). Each optimum is that of the whole polygon; every
-  vector the search sees has all nr rows and sigmas.
+  fictitious LPs as appended rows, the statics by bounding a free sigma at 0. Each
+  optimum is that of the whole polygon; every vector the search sees has all nr rows.
 
 A structure without strengths never comes here: :func:`lamodel.search.gap.formulation_of`
 keeps :class:`~.problem.ScaledProblem`, whose LPs are those of eq. (4).
@@ -42,11 +40,10 @@ from ...formulation.matrices import joint_area
 from ...structure import Structure
 from ..highs import INF, HighsLP
 from ..options import Deadline
-from ..tuning import CERTIFY_CAP_ROWS, LP_TOLERANCE
+from ..tuning import LP_TOLERANCE
 from .problem import ScaledProblem
 
 BASIC = int(highspy.HighsBasisStatus.kBasic)
-LOWER = int(highspy.HighsBasisStatus.kLower)
 
 
 class StrengthProblem(ScaledProblem):
@@ -68,21 +65,19 @@ class StrengthProblem(ScaledProblem):
         self.nl = nr  # the sigma columns play the generator form's lambdas
         self.row_of_pair = sp.identity(nr, format="csr")
         self.w = np.maximum(1.0, np.abs(self.b))  # a row's slack is w sigma (module doc)
-        self.free = np.r_[np.zeros(nr), np.full(3 * nc, -INF), 0.0]  # bounds of x = (sigma, s_f, alpha)
+        # --- statics: columns sigma (nr), s_f (3 nc), alpha
+        A = sp.bmat([[None, self.A, self.fbar.reshape(-1, 1)],
+                     [sp.diags(self.w), self.Y, None]], format="csc")
+        self.free = np.r_[np.zeros(nr), np.full(3 * nc, -INF), 0.0]
+        self.stat = HighsLP(A, np.concatenate([-self.f0, self.b]), np.zeros(A.shape[1]), self.free,
+                            np.full(A.shape[1], INF), "statics")
         self.obj_scale = float(nb)
-        # the LPs' yield rows (module doc): the slides and each half's facet at the
+        # the fictitious LPs' rows (module doc): the slides and each half's facet at the
         # tension end (eq. 4's hinge rows) to begin with, in the LPs in this order
         self.in_force = np.zeros(nr, bool)
         self.in_force[:3 * nc] = True
         self.in_force[(2 + self.n_facets) * nc:(3 + self.n_facets) * nc] = True
         self.fict_rows = np.flatnonzero(self.in_force)
-        # --- statics: columns s_f (3 nc), alpha, then the sigmas of the rows in force;
-        # rows equilibrium, then the yield rows in force (both in the order of fict_rows)
-        k = self.fict_rows
-        A = sp.bmat([[self.A, self.fbar.reshape(-1, 1), None],
-                     [self.Y[k], None, sp.diags(self.w[k])]], format="csc")
-        self.stat = HighsLP(A, np.concatenate([-self.f0, self.b[k]]), np.zeros(A.shape[1]),
-                            np.r_[self.free[nr:], np.zeros(k.size)], np.full(A.shape[1], INF), "statics")
         self.facet_rounds = 0  # re-solves that brought violated facets into force
         self.coh = self._fictitious(0.0, "cohesive")
         self.coh_r = self._fictitious(0.0, "cohesive-r")
@@ -99,49 +94,11 @@ class StrengthProblem(ScaledProblem):
         """Facets a half of each joint's N-M polygon."""
         return (self.nr // self.nc - 2) // 2
 
-    @property
-    def full_rows(self):
-        """The statics' rows with every facet: equilibrium and all the yield rows."""
-        return 3 * self.nb + self.nr
-
     def work_bound(self):
-        """The generator form's bound times how many more rows the statics has with every
-        facet: the work counts iterations times rows
-        (:attr:`~lamodel.search.highs.HighsLP.work`)."""
-        return super().work_bound() * self.full_rows / (3 * self.nb)
-
-    def iteration_cap(self):
-        """CERTIFY_CAP_ROWS simplex iterations a row of the statics with every facet."""
-        return int(CERTIFY_CAP_ROWS * self.full_rows)
-
-    # ------------------------------------------- the statics' columns and rows
-    def _stat_cols(self):
-        """Positions in x = (sigma, s_f, alpha) of the statics LP's columns."""
-        return np.r_[self.nr + np.arange(3 * self.nc + 1), self.fict_rows]
-
-    def _stat_rows(self):
-        """Positions among (equilibrium, yield rows) of the statics LP's rows."""
-        return np.r_[np.arange(3 * self.nb), 3 * self.nb + self.fict_rows]
-
-    def _full_x(self, xr):
-        """x = (sigma, s_f, alpha) of the statics LP's columns ``xr``: a facet not in force
-        has the slack its row leaves, sigma = (b - Y s_f) / w."""
-        x = np.zeros(self.nr + 3 * self.nc + 1)
-        x[self._stat_cols()] = xr
-        out = ~self.in_force
-        x[:self.nr][out] = (self.b[out] - self.Y[out] @ x[self.nr:self.nr + 3 * self.nc]) / self.w[out]
-        return x
-
-    def exact_statics(self):
-        return self._full_x(self.stat.exact_x())
-
-    def statics_duals(self):
-        """Row duals and reduced costs of the last statics solve in the positions of every
-        row and x: 0 for a facet not in force (a free slack's row has no dual)."""
-        yr, zr = self.stat.exact_duals()
-        y, z = np.zeros(3 * self.nb + self.nr), np.zeros(self.nr + 3 * self.nc + 1)
-        y[self._stat_rows()], z[self._stat_cols()] = yr, zr
-        return y, z
+        """The generator form's bound times how many more rows these LPs have: the work
+        counts iterations times rows (:attr:`~lamodel.search.highs.HighsLP.work`), and the
+        search should get as many iterations as on the dry joints' LPs (3 nb rows)."""
+        return super().work_bound() * self.stat.m / (3 * self.nb)
 
     # ------------------------------------------------ bases of LPs whose rows grow
     FICTITIOUS = ("coh", "coh_r")
@@ -152,13 +109,6 @@ class StrengthProblem(ScaledProblem):
         copy of this problem, whose facets came into force in another order, restarts
         from them (:meth:`restart`)."""
         out = super().bases()
-        if out["stat"] is not None:
-            # a facet not in force as if in the LP: its sigma basic, its row at its bound
-            cols, rows = out["stat"]
-            full_cols = np.full(self.nr + 3 * self.nc + 1, BASIC, np.int8)
-            full_rows = np.full(self.full_rows, LOWER, np.int8)
-            full_cols[self._stat_cols()], full_rows[self._stat_rows()] = cols, rows
-            out["stat"] = full_cols, full_rows
         for name in self.FICTITIOUS:
             if out[name] is not None:
                 cols, rows = out[name]
@@ -172,9 +122,6 @@ class StrengthProblem(ScaledProblem):
     def restart(self, bases):
         self._bring_into_force(bases.get("in_force", self.in_force))
         own = dict(bases)
-        if own.get("stat") is not None:
-            cols, rows = own["stat"]
-            own["stat"] = cols[self._stat_cols()], rows[self._stat_rows()]
         for name in self.FICTITIOUS:
             if own.get(name) is not None:
                 cols, full = own[name]
@@ -182,14 +129,12 @@ class StrengthProblem(ScaledProblem):
         super().restart(own)
 
     def load_bases(self, saved, restart_cold=True):
-        """As :meth:`ScaledProblem.load_bases`; a basis saved before facets came into force
-        gets their rows' slacks basic and the statics' sigmas at 0 (what adding them did)."""
+        """As :meth:`ScaledProblem.load_bases`; a fictitious LP's basis saved before facets
+        came into force gets their slacks basic (what adding them did)."""
         for name, basis in saved.items():
             lp = self.lps[name]
             if basis is not None and len(basis.row_status) < lp.m:
                 basis.row_status = list(basis.row_status) + [highspy.HighsBasisStatus.kBasic] * (lp.m - len(basis.row_status))
-            if basis is not None and len(basis.col_status) < lp.n:  # the statics' new sigmas, at 0
-                basis.col_status = list(basis.col_status) + [highspy.HighsBasisStatus.kLower] * (lp.n - len(basis.col_status))
         super().load_bases(saved, restart_cold)
 
     def crushing_message(self) -> str:
@@ -225,9 +170,8 @@ class StrengthProblem(ScaledProblem):
         return [self.coh, self.coh_r] + ([self.dilatant[1]] if self.dilatant is not None else [])
 
     def _bring_into_force(self, rows):
-        """Append the facets ``rows`` (yield-row indices) to every fictitious LP (their
-        bounds are set by the next solve) and, with their sigma columns (>= 0), to the
-        statics."""
+        """Append the facets ``rows`` (yield-row indices) to every fictitious LP; their
+        bounds are set by the next solve."""
         rows = np.flatnonzero(np.asarray(rows, bool) & ~self.in_force)
         if not rows.size:
             return
@@ -236,12 +180,6 @@ class StrengthProblem(ScaledProblem):
         facets = sp.hstack([self.G[rows], sp.csr_matrix((rows.size, 1))], format="csr")
         for lp in self._fictitious_lps():
             lp.add_rows(facets, np.full(rows.size, -INF), self.b[rows])
-        n = self.stat.n
-        self.stat.add_empty_cols(np.zeros(rows.size), np.zeros(rows.size), np.full(rows.size, INF))
-        slack = sp.csr_matrix((self.w[rows], (np.arange(rows.size), n + np.arange(rows.size))),
-                              shape=(rows.size, n + rows.size))
-        self.stat.add_rows(sp.hstack([self.Y[rows], sp.csr_matrix((rows.size, n + rows.size - 3 * self.nc))]) + slack,
-                           self.b[rows], self.b[rows])
 
     # ------------------------------------------------------------------- statics
     def forces(self, x):
@@ -253,7 +191,7 @@ class StrengthProblem(ScaledProblem):
     def statics(self, cost_lam=None, held=None, maximize=False, cap=None, alpha_cost=1.0, u=None):
         """Optimise over S: min (max) alpha_cost alpha + cost_lam^T sigma with the yield rows
         ``held`` at equality (their sigma bounded at 0). Returns (status, x)."""
-        n = self.nr + 3 * self.nc + 1
+        n = self.stat.n
         cost = np.zeros(n)
         cost[-1] = -alpha_cost if maximize else alpha_cost
         if cost_lam is not None:
@@ -263,15 +201,16 @@ class StrengthProblem(ScaledProblem):
             hi[:self.nl][held] = 0.0
         # a row held or priced must be in force (a free sigma with a cost is unbounded)
         self._bring_into_force((hi[:self.nl] == 0.0) | (cost[:self.nl] != 0.0))
+        self.stat.set_cost(cost)
         while True:
-            # a facet not in force is not in the LP: its row says nothing
-            cols = self._stat_cols()
-            self.stat.set_cost(cost[cols])
-            self.stat.set_bounds(self.free[cols], hi[cols])
+            # a facet not in force has its sigma free: its row says nothing
+            lo = self.free.copy()
+            lo[:self.nl][~self.in_force] = -INF
+            self.stat.set_bounds(lo, hi)
             status = self.stat.solve(cap, self.deadline)
             if status != "optimal":
                 return status, None
-            x = self._full_x(self.stat.x())
+            x = self.stat.x()
             late = ~self.in_force & (x[:self.nl] < -LP_TOLERANCE)
             if not late.any():
                 break
