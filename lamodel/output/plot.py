@@ -3,8 +3,9 @@
 A mechanism is small-displacement kinematics (block translations and rotations at the
 centroids), so it is drawn amplified: by default the largest displacement of a vertex is
 drawn as 10 % of the size of the structure. Hinges are marked by a dot at the pivot (the
-end of the contact about which the two bodies rotate), sliding joints by a thick line
-along the contact. Rendering uses matplotlib's Agg backend (no display needed); the file
+end of the contact about which the two bodies rotate), a joint that crushes (at its
+crushing cap: the mode ``crushing``) by a diamond at its pivot, sliding joints by a thick
+line along the contact. Rendering uses matplotlib's Agg backend (no display needed); the file
 format follows the extension of ``path`` (.png, .svg, .pdf, ...).
 """
 from __future__ import annotations
@@ -35,6 +36,7 @@ _BLOCK_REST = dict(facecolor="#e6e6e6", edgecolor="#9a9a9a", linewidth=0.6)
 _SUPPORT = dict(facecolor="#5a5a5a", edgecolor="#303030", linewidth=0.8, hatch="///")
 _BLOCK_MOVED = dict(facecolor="#f4a259", edgecolor="#7a3b00", linewidth=0.8, alpha=0.75)
 _HINGE_COLOUR = "#c0392b"
+_CRUSH_COLOUR = "#6e2c00"
 _SLIDE_COLOUR = "#1f5fbf"
 _HIGHLIGHT = "#e03030"
 _DEAD_COLOUR = "#606060"
@@ -128,12 +130,15 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
         ax.add_collection(LineCollection(np.stack(ends, axis=1), colors=_SLIDE_COLOUR, linewidths=3.5,
                                          zorder=4, capstyle="round"))
         legend.append(Line2D([], [], color=_SLIDE_COLOUR, lw=3.5, label="sliding"))
-    if hinging.any():
-        k = np.flatnonzero(hinging)
-        p = pivots(s, u)[k]
-        p = p + scale * _point_motion(s, u, ia[k], p)
-        ax.plot(p[:, 0], p[:, 1], "o", color=_HINGE_COLOUR, ms=6, mec="white", mew=0.8, zorder=5)
-        legend.append(Line2D([], [], marker="o", ls="", color=_HINGE_COLOUR, mec="white", label="hinge"))
+    crushing = np.array([m.startswith("crushing") for m in modes], dtype=bool) & hinging
+    for kind, marker, colour, label in ((hinging & ~crushing, "o", _HINGE_COLOUR, "hinge"),
+                                        (crushing, "D", _CRUSH_COLOUR, "crushing (joint at its crushing cap)")):
+        if kind.any():
+            k = np.flatnonzero(kind)
+            p = pivots(s, u)[k]
+            p = p + scale * _point_motion(s, u, ia[k], p)
+            ax.plot(p[:, 0], p[:, 1], marker, color=colour, ms=6, mec="white", mew=0.8, ls="", zorder=5)
+            legend.append(Line2D([], [], marker=marker, ls="", color=colour, mec="white", label=label))
     extent = [p for p in s.polygons.values()] or [s.centroid]
     _joint_numbers(ax, s, u, modes, scale, ia)
     if loads:

@@ -101,6 +101,26 @@ def test_cli_fc_what_if(block_file, tmp_path, capsys):
     assert "the joint crushes over its last 0.6 m at the right end" in capsys.readouterr().out
 
 
+def test_the_picture_marks_the_crushed_joint(block_file):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from lamodel.output.extras import picture_of
+    from lamodel.output.plot import plot_mechanism
+    from lamodel.output.report import outcome_results
+    from lamodel.search.driver import SolveOptions, solve
+    s = structure_from_json(json.loads(block_file.read_text()) | {"fc": 10.0})
+    outcome = solve(s, SolveOptions(workers=1))
+    fig, ax = plt.subplots()
+    plot_mechanism(s, path=None, ax=ax, **picture_of(outcome, outcome_results(outcome), None))
+    # the block turns about the toe of its crushed base, drawn on the ground (not displaced)
+    diamonds = [line for line in ax.lines if line.get_marker() == "D"]
+    assert len(diamonds) == 1 and diamonds[0].get_xydata()[0, 1] == pytest.approx(0.0, abs=1e-9)
+    assert not [line for line in ax.lines if line.get_marker() == "o"]
+    assert "crushing (joint at its crushing cap)" in [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(fig)
+
+
 def test_cli_cohesion_what_if_slides(block_file, tmp_path):
     out = tmp_path / "out"
     path = block_file.with_name("slide.json")

@@ -216,3 +216,18 @@ def test_bad_arguments(wall, tmp_path):
                        path=str(tmp_path / "x.png"))
     with pytest.raises(InputError, match="unsupported picture format '.xyz'"):
         plot_mechanism(wall, np.zeros((wall.n_blocks, 3)), path=str(tmp_path / "x.xyz"))
+
+
+def test_crushed_joints_are_marked_apart_from_hinges_with_a_legend(wall):
+    modes = ["closed"] * wall.n_contacts
+    modes[0], modes[1], modes[2] = "hinging", "crushing", "crushing+sliding"
+    fig, ax = plt.subplots()
+    plot_mechanism(wall, np.zeros((wall.n_blocks, 3)), modes=modes, ax=ax, path=None)
+    dots = [line for line in ax.lines if line.get_marker() == "o"]
+    diamonds = [line for line in ax.lines if line.get_marker() == "D"]
+    assert len(dots) == 1 and len(dots[0].get_xdata()) == 1
+    assert len(diamonds) == 1 and len(diamonds[0].get_xdata()) == 2
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "hinge" in labels and "crushing (joint at its crushing cap)" in labels
+    assert len([c for c in ax.collections if isinstance(c, LineCollection)]) == 1  # the one that slides
+    plt.close(fig)
