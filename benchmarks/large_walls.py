@@ -7,7 +7,7 @@ solves and seconds to the first certificate and to the best, the whole process's
     python benchmarks/large_walls.py --sizes 80x25 --mus 0.3,0.65,0.75,0.9
     python benchmarks/large_walls.py --sizes 40x25 --mus 0.9 --orders written,shuffled,ground-first
     python benchmarks/large_walls.py --sizes 20x15 --mus 0.9 --side-share inf    # no side-lane bound
-    python benchmarks/large_walls.py --sizes 80x25 --mus 0.65 --tuning MAIN_LANE_SHARE=2
+    python benchmarks/large_walls.py --sizes 80x25 --mus 0.65 --tuning FIRST_WORK=16
 
 The walls are those of ``benchmarks/families.py`` (``--orders``: the same wall written
 another way, its ``_reordered``). A case past ``--timeout`` seconds is stopped and

@@ -9,7 +9,7 @@ the search's only bound. Every solve of an engine reads its budget's :attr:`Budg
 at the call (HiGHS's interrupt callback, Clarabel's time limit): it expires at the time
 cap, a stop, or once the work bounds that apply are spent, between two solves. Lanes run
 elsewhere are given child budgets (:meth:`Budget.share`, :meth:`Budget.side_lane`, the
-the first certificate's two lanes bounding each other: :class:`FirstLanes`); the Ipopt
+latter bounded by the main lane's work once it certifies: :class:`MainLane`); the Ipopt
 polish is given the time the search leaves it (:meth:`Budget.reserve`).
 """
 from __future__ import annotations
@@ -20,7 +20,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 
 from .options import Deadline, Stopped
-from .tuning import EVALUATION_SLICE, FIRST_WORK, MAIN_LANE_SHARE, POLISH_SHARE, SIDE_LANE_SHARE, TOTAL_WORK
+from .tuning import EVALUATION_SLICE, FIRST_WORK, POLISH_SHARE, SIDE_LANE_SHARE, TOTAL_WORK
 
 
 @dataclass(frozen=True)
@@ -71,9 +71,9 @@ class Budget:
         self._first = False       # the first certificate runs: its bound applies
         self._charged = True      # the work bounds stop solves (not after the search)
         self._lane_from = 0.0     # the search's work when the first certificate's side lanes began
-        #: the first certificate's lanes bounding each other (:class:`FirstLanes`; None: none),
-        #: whether this engine runs the side lane, and its work when that lane began
-        self.first_lanes, self.side, self._side_from = None, False, 0.0
+        #: a side lane's bound by the main lane beside it (:class:`MainLane`; None: none), and
+        #: this engine's work when the side lane began
+        self.main_lane, self._side_from = None, 0.0
         self.deadline = Charged(self)
 
     @classmethod
@@ -163,19 +163,11 @@ class Budget:
         return self.problem.work()
 
     def spent(self) -> bool:
-        """The work bounds (LP solves, LP work) are reached, or the bound of a first
-        certificate's lane by the other (:class:`FirstLanes`: it may wait for the other)."""
+        """The work bounds (LP solves, LP work) are reached, or a side lane's bound by the
+        main lane beside it (:meth:`MainLane.reached`: it may wait for the main lane)."""
         return ((self.work_limit is not None and self.problem.n_lps() >= self.work_limit)
                 or (self.work_bound is not None and self.work() >= self.work_bound)
-                or self._lane_bound())
-
-    def _lane_bound(self) -> bool:
-        lanes = self.first_lanes
-        if lanes is None:
-            return False
-        if self.side:
-            return lanes.reached(self.work() - self._side_from)
-        return lanes.main_cut(self.work() - self._lane_from)
+                or (self.main_lane is not None and self.main_lane.reached(self.work() - self._side_from)))
 
     def first(self, run, certified):
         """``run()``, the first certificate, ending between two solves once the search's
@@ -207,31 +199,25 @@ class Budget:
         work = None if self.work_bound is None else max(0.0, self.work_bound - self.work()) / k
         return [Budget(self.cap, allowance=(lps, work)) for _ in range(k)]
 
-    def side_lane(self, workers=1) -> "Budget":
+    def side_lane(self) -> "Budget":
         """The budget of a lane beside the first certificate: the whole first-certificate
         work left (no bound without one), under the time cap alone; without a time limit
-        the lane on this engine (the main lane) and it also bound each other
-        (:class:`FirstLanes`, this budget's and the child's :attr:`first_lanes` until
-        :meth:`lanes_ended`; ``workers``: 1, one of them runs at a time)."""
+        also bounded by the main lane on this engine once it certifies (its
+        :attr:`main_lane`, told by :meth:`MainLane.ended`)."""
         self._lane_from = self.work()
         left = None if self.first_bound is None else max(0.0, self.first_bound - self._lane_from)
         child = Budget(self.cap, allowance=(None, left))
         if self.rule is not None:
             start = self._lane_from
-            self.first_lanes = child.first_lanes = FirstLanes(lambda: self.work() - start, int(workers) <= 1)
-            child.side = True
+            child.main_lane = MainLane(lambda: self.work() - start)
         return child
-
-    def lanes_ended(self):
-        """The first certificate's lanes ended: their bounds on each other no longer apply."""
-        self.first_lanes = None
 
     def run_under(self, child: "Budget"):
         """This engine's next run is under ``child``: its time cap, its allowance counted
         from this engine's work now, and its bound by a main lane (if any)."""
         lps, work = child.allowance
         self.cap, self._charged = child.cap, True
-        self.first_lanes, self.side, self._side_from = child.first_lanes, child.side, self.work()
+        self.main_lane, self._side_from = child.main_lane, self.work()
         self.bound(None if lps is None else self.problem.n_lps() + lps, None if work is None else self.work() + work)
 
     def progress(self, running) -> float | None:
@@ -253,83 +239,29 @@ class Budget:
         return None
 
 
-class FirstLanes:
-    """The two lanes of a stalled first certificate bounding each other, by counted LP work
-    (each from its start): once the main lane (plan.IF_STALLED, on the search's engine)
-    certifies, the side lane may spend SIDE_LANE_SHARE times the main lane's work; once the
-    side lane certifies first, at work s, the main lane ends at MAIN_LANE_SHARE times s.
+class MainLane:
+    """What bounds a lane beside the first certificate's main lane: once the main lane
+    certified, the side lane may spend SIDE_LANE_SHARE times the LP work the main lane
+    took (``main_work()``: its work so far), else what its budget allows. Counted work, so
+    the side lane's run is the same with any number of threads: with one it runs after
+    the main lane, the bound known; beside it, it waits before a solve that the bound might
+    forbid until the main lane has done more work or ended."""
 
-    Counted, so the answer is the same with any number of threads: each lane, before a
-    solve the other's next step might forbid, waits for the other to work more or end (they
-    cannot both wait: SIDE_LANE_SHARE * MAIN_LANE_SHARE >= 1). With one worker
-    (``token``) only one of them runs at a time: a lane gives the token up while it waits.
-    ``main_work()``: the main lane's work so far."""
-
-    def __init__(self, main_work, one_worker=False):
+    def __init__(self, main_work):
         self.main_work = main_work
-        self.token = threading.Lock() if one_worker else None
-        self.holding = set()  # the lanes (main: True) that began with the token
-        self.changed = threading.Condition()
-        self.main_ended, self.main_certified = False, False
-        self.side_work, self.side_ended, self.side_certified = 0.0, False, None  # its work at its first state
-        self.cut = False  # the main lane was ended by this bound
+        self.limit = None  # the side lane's work allowed, once the main lane ended (inf: no bound)
+        self.done = threading.Event()
 
-    # ------------------------------------------------------------------ the side lane's side
+    def ended(self, certified: bool):
+        """The main lane ended (``certified``: the search has a certified state)."""
+        self.limit = SIDE_LANE_SHARE * self.main_work() if certified else math.inf
+        self.done.set()
+
     def reached(self, work) -> bool:
-        """The side lane, having spent ``work``, may not go on (never true inside a solve
-        that began allowed: the main lane's work only grows)."""
-        with self.changed:
-            self.side_work = work
-            self.changed.notify_all()
-        self._wait(lambda: self.main_ended or work < SIDE_LANE_SHARE * self.main_work())
-        return self.main_ended and self.main_certified and work >= SIDE_LANE_SHARE * self.main_work()
-
-    def side_found(self, work):
-        """The side lane certified a state, having spent ``work``."""
-        with self.changed:
-            if self.side_certified is None:
-                self.side_certified = work
-            self.changed.notify_all()
-
-    # ------------------------------------------------------------------ the main lane's side
-    def main_cut(self, work) -> bool:
-        """The main lane, having spent ``work``, ends: the side lane certified first, at
-        1 / MAIN_LANE_SHARE of it or less."""
-        if not math.isfinite(MAIN_LANE_SHARE):
-            return False
-        self._wait(lambda: (self.side_ended or self.side_certified is not None
-                            or work <= MAIN_LANE_SHARE * self.side_work))
-        self.cut = self.side_certified is not None and work > MAIN_LANE_SHARE * self.side_certified
-        return self.cut
-
-    # ------------------------------------------------------------------ both
-    def begin(self, main: bool):
-        """A lane begins (``main``: the main lane; with one worker: once it holds the token)."""
-        if self.token is not None:
-            self.token.acquire()
-            self.holding.add(main)
-
-    def ended(self, main: bool, certified: bool = False):
-        """A lane ended (``main``: the main lane; ``certified``: the search has a certified
-        state), giving up the token."""
-        with self.changed:
-            if main:
-                self.main_ended, self.main_certified = True, certified
-            else:
-                self.side_ended = True
-            self.changed.notify_all()
-        if main in self.holding:
-            self.holding.discard(main)
-            self.token.release()
-
-    def _wait(self, allowed):
-        """Until ``allowed()`` (read under the lock), the token given up meanwhile."""
-        with self.changed:
-            if allowed():
-                return
-            if self.token is not None:
-                self.token.release()
-            while not allowed():
-                self.changed.wait(EVALUATION_SLICE)
-        if self.token is not None:
-            self.token.acquire()
+        """The side lane, having spent ``work``, may not go on. Never true inside a solve
+        that began allowed: the main lane's work only grows."""
+        while not self.done.is_set():
+            if work < SIDE_LANE_SHARE * self.main_work():
+                return False  # allowed whatever the main lane does next
+            self.done.wait(EVALUATION_SLICE)
+        return work >= self.limit

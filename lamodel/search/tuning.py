@@ -154,9 +154,6 @@ FIRST_WORK = 8.0
 #: may spend this many times the LP work the main lane took: at 4 the dilatancy lane's lower
 #: state of a 510-block wall (mu 0.9) was lost.
 SIDE_LANE_SHARE = 8.0
-#: ... and once the side lane certifies first, the main lane ends at this many times the LP
-#: work the side lane took (inf: no bound).
-MAIN_LANE_SHARE = float("inf")
 #: BLAS threads while the search runs (numpy's dot products of its LP-sized vectors): more
 #: threads spin between products and cost CPU but save no time, and one thread makes those sums
 #: the same on any machine.

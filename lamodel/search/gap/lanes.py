@@ -18,7 +18,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..budget import Budget
 from ..options import Stopped
 from ..workers import threads
 
@@ -130,39 +129,30 @@ class Lanes:
         after ``here``. The search goes on from the bases of a ``there`` lane that certified
         a lower alpha than ``here`` (why: docs/method/evidence.md). The ``there`` lanes stop
         at the search's time cap, not at the first certificate's bound, and once ``here``
-        certified at SIDE_LANE_SHARE times its work; ``here`` ends once the first ``there``
-        lane certified first, at MAIN_LANE_SHARE times that lane's work
+        certified at SIDE_LANE_SHARE times its work
         (:meth:`~lamodel.search.budget.Budget.side_lane`)."""
         e, budget = self.engine, self.engine.budget
         p = e.problem
-        side = budget.side_lane(workers)
-        lanes = side.first_lanes  # the two lanes' bounds on each other (None: none)
+        side = budget.side_lane()
         t = time.perf_counter()
         raised = []
 
         def mine():
-            if lanes is not None:
-                lanes.begin(main=True)
             try:
                 here.run(e, start)
-            except Stopped as stop:  # a bound or the deadline: after the other lanes are merged
-                if lanes is None or not lanes.cut or budget.over():
-                    raised.append(stop)
+            except Stopped as stop:  # our bound or the deadline: after the other lanes are merged
+                raised.append(stop)
             finally:
-                if lanes is not None:  # the side lane's bound, from the work this lane took
-                    lanes.ended(main=True, certified=e.record.best is not None)
+                if side.main_lane is not None:  # the side lanes' bound, from the work this lane took
+                    side.main_lane.ended(e.record.best is not None)
 
         snap = self.snapshot()
-        # the lanes after the first one beside: bounded by their budget alone
-        tasks = [(run_pure, (snap, lane, start, side if i == 0 else Budget(side.cap, allowance=side.allowance)))
-                 for i, lane in enumerate(there)]
+        tasks = [(run_pure, (snap, lane, start, side)) for lane in there]
         log.info("nothing certified by the alternation: lanes %s",
                  " beside ".join(f"[{', '.join(lane.names)}]" for lane in (here, *there)))
         try:
-            outcomes = _alongside(mine, self.new_engine, tasks, workers, running=self.running,
-                                  together=lanes is not None)
+            outcomes = _alongside(mine, self.new_engine, tasks, workers, running=self.running)
         finally:
-            budget.lanes_ended()
             e.record.phase(phase, t)
         best = e.record.best
         _log_lanes([here], [(None, [best] if best is not None else [], None, None)])
@@ -217,23 +207,13 @@ class PureRun:
         p = e.problem
         p.restart(self.snap["bases"])
         e.certifier.cache, e.descent.cache = dict(self.snap["certified"]), dict(self.snap["descended"])
-        e.record.forget(best=self.snap.get("best"), on_state=self.take)
+        e.record.forget(best=self.snap.get("best"), on_state=self.found.append)
         e.lanes.forget()
         self.lps, self.work = p.n_lps(), p.work()
         e.budget.run_under(self.budget)
-        self.lanes = self.budget.first_lanes if self.budget.side else None  # the main lane's bound
-        if self.lanes is not None:
-            self.lanes.begin(main=False)
         return self
 
-    def take(self, st):
-        self.found.append(st)
-        if self.lanes is not None:
-            self.lanes.side_found(self.engine.problem.work() - self.work)
-
     def __exit__(self, kind, exc, tb):
-        if self.lanes is not None:
-            self.lanes.ended(main=False)
         if kind is not None and issubclass(kind, Stopped):
             self.engine.lanes.stopped = True
             if self.keep_stopped:
@@ -295,20 +275,19 @@ def side_by_side(new_engine, tasks, workers: int, running=None):
         return [future.result() for future in futures]
 
 
-def _alongside(here, new_engine, tasks, workers: int, running=None, together=False):
+def _alongside(here, new_engine, tasks, workers: int, running=None):
     """``here()`` in this thread (on the search's own engine) while the pure ``tasks`` run
-    in up to ``workers - 1`` other threads (one worker: after it, unless ``together``: the
-    lanes take turns, :class:`~lamodel.search.budget.FirstLanes`); the tasks' outcomes in
+    in up to ``workers - 1`` other threads (one worker: after it); the tasks' outcomes in
     task order, once ``here()`` and they have all ended, whatever ``here()`` raised (it is
     raised after them)."""
-    if int(workers) <= 1 and not together:
+    if int(workers) <= 1:
         try:
             here()
         finally:
             outcomes = side_by_side(new_engine, tasks, 1, running)
         return outcomes
     with threads(1, "lanes") as pool:
-        future = pool.submit(side_by_side, new_engine, tasks, max(1, int(workers) - 1), running)
+        future = pool.submit(side_by_side, new_engine, tasks, int(workers) - 1, running)
         try:
             here()
         finally:

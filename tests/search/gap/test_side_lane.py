@@ -34,11 +34,11 @@ def test_the_bound_cuts_the_side_lane_and_is_the_same_with_one_worker_or_two(mon
 
 def test_no_bound_under_a_time_limit():
     e = GapSearch(bond(4, 6, 0.9), Budget.for_solve(60.0))
-    assert e.budget.side_lane().first_lanes is None
+    assert e.budget.side_lane().main_lane is None
     e = GapSearch(bond(4, 6, 0.9), Budget.for_solve(None))
     side = e.budget.side_lane()
-    side.first_lanes.ended(main=True, certified=False)
-    assert not side.first_lanes.reached(1e30)  # the main lane certified nothing: its budget alone
+    side.main_lane.ended(certified=False)
+    assert not side.main_lane.reached(1e30)  # the main lane certified nothing: its budget alone
 
 
 @pytest.mark.parametrize("courses, width", [(12, 8), (9, 7)])
@@ -50,31 +50,3 @@ def test_the_answer_is_not_above_the_one_without_the_bound(monkeypatch, courses,
     before = solve(s, opt)
     assert now.certified and before.certified
     assert now.best.alpha <= before.best.alpha + 1e-9
-
-
-def test_the_side_lane_certifying_first_ends_the_main_lane_the_same_with_one_worker_or_two(monkeypatch):
-    """The mirror bound (MAIN_LANE_SHARE): where the dilatancy lane certifies before the main
-    lane, the main lane ends at that many times the side lane's work; counted, so one worker
-    (the lanes taking turns) and two agree."""
-    s = bond(9, 7, 0.9)
-    monkeypatch.setattr(budget_module, "MAIN_LANE_SHARE", float("inf"))
-    unbounded = _first_certificate(s, 1)
-    monkeypatch.setattr(budget_module, "MAIN_LANE_SHARE", 1.0)
-    one, two = _first_certificate(s, 1), _first_certificate(s, 2)
-    assert one == two
-    assert one[0] < unbounded[0] and one[1] < unbounded[1]  # the main lane was cut
-
-
-def test_the_lanes_bounding_each_other_cannot_both_wait(monkeypatch):
-    """Each lane waits only while the other's next step might decide its bound: with the
-    shares' product at least 1 one of them can always go on (here the main lane is far
-    ahead: the side lane goes on at once)."""
-    monkeypatch.setattr(budget_module, "MAIN_LANE_SHARE", 2.0)
-    e = GapSearch(bond(4, 6, 0.9), Budget.for_solve(None))
-    side = e.budget.side_lane(workers=2)
-    lanes = side.first_lanes
-    lanes.main_work = lambda: 1e6
-    assert not lanes.reached(10.0)  # far below SIDE_LANE_SHARE times the main lane's work
-    lanes.side_found(10.0)
-    assert not lanes.main_cut(20.0)  # within MAIN_LANE_SHARE times the side lane's work
-    assert lanes.main_cut(20.5) and lanes.cut
