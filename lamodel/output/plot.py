@@ -130,7 +130,9 @@ def plot_mechanism(structure: Structure, u, modes=None, alpha=None, certified=No
         ax.add_collection(LineCollection(np.stack(ends, axis=1), colors=_SLIDE_COLOUR, linewidths=3.5,
                                          zorder=4, capstyle="round"))
         legend.append(Line2D([], [], color=_SLIDE_COLOUR, lw=3.5, label="sliding"))
-    crushing = np.array([m.startswith("crushing") for m in modes], dtype=bool) & hinging
+    # a crushing mark only where the joint can crush (a closing dry joint is a hinge drawn wrong)
+    strong = np.isinf(s.fc) if getattr(s, "fc", None) is not None else np.ones(s.n_contacts, bool)
+    crushing = np.array([m.startswith("crushing") for m in modes], dtype=bool) & hinging & ~strong
     for kind, marker, colour, label in ((hinging & ~crushing, "o", _HINGE_COLOUR, "hinge"),
                                         (crushing, "D", _CRUSH_COLOUR, "crushing (joint at its crushing cap)")):
         if kind.any():

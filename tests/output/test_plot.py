@@ -1,6 +1,8 @@
 """Mechanism pictures (lamodel.output.plot): kinematics of the contacts, and what is drawn."""
 from __future__ import annotations
 
+import dataclasses
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -221,6 +223,13 @@ def test_bad_arguments(wall, tmp_path):
 def test_crushed_joints_are_marked_apart_from_hinges_with_a_legend(wall):
     modes = ["closed"] * wall.n_contacts
     modes[0], modes[1], modes[2] = "hinging", "crushing", "crushing+sliding"
+    # on dry joints (no f_c) a closing joint cannot crush: every turning joint is a hinge
+    fig, ax = plt.subplots()
+    plot_mechanism(wall, np.zeros((wall.n_blocks, 3)), modes=modes, ax=ax, path=None)
+    assert not [line for line in ax.lines if line.get_marker() == "D"]
+    assert sum(len(line.get_xdata()) for line in ax.lines if line.get_marker() == "o") == 3
+    plt.close(fig)
+    wall = dataclasses.replace(wall, fc=np.full(wall.n_contacts, 10.0))
     fig, ax = plt.subplots()
     plot_mechanism(wall, np.zeros((wall.n_blocks, 3)), modes=modes, ax=ax, path=None)
     dots = [line for line in ax.lines if line.get_marker() == "o"]
