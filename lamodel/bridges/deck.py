@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from .backing import backing_blocks, bed as span_bed
 from .description import Bridge
 from .ring import abutments, joint_points, restraint_support as span_support, voussoirs
@@ -53,7 +54,6 @@ def _pier(bridge: Bridge, k: int, spans: list) -> list:
     a1, b1 = _springings(*spans[k], -1)
     a2, b2 = _springings(*spans[k + 1], 0)
     if b1[0] >= b2[0]:
-        from ..errors import InputError
         raise InputError(f"bridge '{bridge.name}': piers[{k}]: 'width' is {pier.width:g}; expected more than "
                          f"{pier.width + b1[0] - b2[0]:.4g}, room for the springing joints of both spans on its top")
     bottom = -pier.height
