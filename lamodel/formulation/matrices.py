@@ -120,6 +120,19 @@ def joint_facets(s: Structure):
     return np.vstack([a, a]), np.vstack([beta, beta])
 
 
+def row_origins(s: Structure) -> np.ndarray:
+    """(nr,) for each yield row of :func:`strength_rows` the row it copies, itself if none: a
+    joint of infinite f_c repeats its one facet a half (:func:`joint_facets`), and its
+    copies are the first facet of their half again. The LPs keep one row of each."""
+    nc, m = s.n_contacts, facets_per_half(s)
+    origin = np.arange((2 + 2 * m) * nc)
+    rigid = np.flatnonzero(~np.isfinite(s.fc))
+    for first in (2, 2 + m):  # the lower half's facets, then the upper's
+        for j in range(1, m):
+            origin[(first + j) * nc + rigid] = first * nc + rigid
+    return origin
+
+
 def row_names(s: Structure) -> tuple:
     """The kinds of yield rows, a block of nc rows each: eq. (4)'s ``YIELD_ROWS``, or with
     the joints' strengths slide+, slide-, then the facets of :func:`joint_facets`, lower

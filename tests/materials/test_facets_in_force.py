@@ -66,3 +66,32 @@ def test_bases_carry_the_facets_in_force_to_another_copy():
     assert got[0] == "optimal" and got[1] == pytest.approx(alpha, rel=1e-9)
     # warm: the carried basis, its rows mapped to this copy's order, is already optimal
     assert other.coh.n_solves == 1 and other.coh.h.getInfo().simplex_iteration_count == 0
+
+
+def test_a_dry_joint_among_crushing_ones_keeps_eq4s_rows():
+    """Joints of infinite f_c beside crushing ones: their copies of the hinge rows are not in
+    the LPs (4 sigma columns a dry joint), yet the statics' optima are those of the LP over
+    every row of the layout (rebuilt here with SciPy's HiGHS), and the slacks of the copies
+    are those of the rows they copy."""
+    from scipy.optimize import linprog
+    s = read_dat(INSTANCES / "wall33.dat")
+    fc = np.where(np.arange(s.n_contacts) % 2 == 0, 3.0, np.inf)
+    p = StrengthProblem(dataclasses.replace(s, fc=fc))
+    crushing = int(np.isfinite(fc).sum())
+    assert p.nl == 4 * (p.nc - crushing) + (p.nr // p.nc) * crushing < p.nr
+    n = 3 * p.nc + 1
+    A_eq = np.hstack([p.A.toarray(), p.fbar.reshape(-1, 1)])
+    A_ub = np.hstack([p.Y.toarray(), np.zeros((p.nr, 1))])
+    bounds = [(None, None)] * (3 * p.nc) + [(0, None)]
+    for maximize in (False, True):
+        status, x = p.statics(maximize=maximize)
+        assert status == "optimal"
+        cost = np.zeros(n)
+        cost[-1] = -1.0 if maximize else 1.0
+        ref = linprog(cost, A_ub=A_ub, b_ub=p.b, A_eq=A_eq, b_eq=-p.f0, bounds=bounds, method="highs")
+        assert ref.status == 0
+        assert x[-1] == pytest.approx(ref.x[-1], rel=1e-7, abs=1e-9)
+        slack = p.slack(x)
+        s_f = x[p.nl:p.nl + 3 * p.nc]
+        assert slack.shape == (p.nr,)
+        assert slack == pytest.approx(p.b - p.Y @ s_f, abs=1e-7 * max(1.0, np.abs(p.b).max()))

@@ -24,6 +24,11 @@ generators.
   and take in the facets an optimum violates, re-solving warm until none is: the
   fictitious LPs as appended rows, the statics by bounding a free sigma at 0. Each
   optimum is that of the whole polygon; every vector the search sees has all nr rows.
+* **One row of each**: a joint of infinite f_c has eq. 4's rows only; the layout's copies
+  of its hinge rows (:func:`~lamodel.formulation.matrices.row_origins`) are not in the
+  LPs: their slacks and flows are those of the row they copy (``row_of_pair`` maps the
+  sigma columns to the rows). One crushing joint among many dry ones (a bridge's passive
+  restraint) no longer multiplies every joint's rows.
 
 A structure without strengths never comes here: :func:`lamodel.search.gap.formulation_of`
 keeps :class:`~.problem.ScaledProblem`, whose LPs are those of eq. (4).
@@ -36,7 +41,7 @@ import highspy
 import numpy as np
 import scipy.sparse as sp
 
-from ...formulation.matrices import joint_area
+from ...formulation.matrices import joint_area, row_origins
 from ...structure import Structure
 from ..highs import INF, HighsLP
 from ..options import Deadline
@@ -62,14 +67,21 @@ class StrengthProblem(ScaledProblem):
         self.nr = nr = self.Y.shape[0]
         self.R, self.C = np.ones(3 * nb), np.ones(nc)  # forces already bounded: no light-block scales
         self.row_scale = np.ones(nr)
-        self.nl = nr  # the sigma columns play the generator form's lambdas
-        self.row_of_pair = sp.identity(nr, format="csr")
+        # one sigma column a distinct row (module doc); they play the generator form's lambdas
+        origin = row_origins(s)
+        self.is_kept = origin == np.arange(nr)
+        self.kept = np.flatnonzero(self.is_kept)
+        self.nl = self.kept.size
+        column = np.full(nr, -1)
+        column[self.kept] = np.arange(self.nl)
+        self.row_of_pair = sp.csr_matrix((np.ones(nr), (np.arange(nr), column[origin])), shape=(nr, self.nl))
         self.w = np.maximum(1.0, np.abs(self.b))  # a row's slack is w sigma (module doc)
-        # --- statics: columns sigma (nr), s_f (3 nc), alpha
+        self.w_kept = self.w[self.kept]
+        # --- statics: columns sigma (one a distinct row), s_f (3 nc), alpha
         A = sp.bmat([[None, self.A, self.fbar.reshape(-1, 1)],
-                     [sp.diags(self.w), self.Y, None]], format="csc")
-        self.free = np.r_[np.zeros(nr), np.full(3 * nc, -INF), 0.0]
-        self.stat = HighsLP(A, np.concatenate([-self.f0, self.b]), np.zeros(A.shape[1]), self.free,
+                     [sp.diags(self.w_kept), self.Y[self.kept], None]], format="csc")
+        self.free = np.r_[np.zeros(self.nl), np.full(3 * nc, -INF), 0.0]
+        self.stat = HighsLP(A, np.concatenate([-self.f0, self.b[self.kept]]), np.zeros(A.shape[1]), self.free,
                             np.full(A.shape[1], INF), "statics")
         self.obj_scale = float(nb)
         # the fictitious LPs' rows (module doc): the slides and each half's facet at the
@@ -164,15 +176,15 @@ class StrengthProblem(ScaledProblem):
         cost[-1] = -self.obj_scale
         lo = np.concatenate([-self.f0, np.full(k.size, -INF)])
         hi = np.concatenate([-self.f0, self.b[k]])
-        return HighsLP(A, lo, cost, self.free[self.nr:], np.full(n, INF), name, b_hi=hi)
+        return HighsLP(A, lo, cost, self.free[self.nl:], np.full(n, INF), name, b_hi=hi)
 
     def _fictitious_lps(self):
         return [self.coh, self.coh_r] + ([self.dilatant[1]] if self.dilatant is not None else [])
 
     def _bring_into_force(self, rows):
-        """Append the facets ``rows`` (yield-row indices) to every fictitious LP; their
-        bounds are set by the next solve."""
-        rows = np.flatnonzero(np.asarray(rows, bool) & ~self.in_force)
+        """Append the facets ``rows`` (a mask of the yield rows; copies are left out) to
+        every fictitious LP; their bounds are set by the next solve."""
+        rows = np.flatnonzero(np.asarray(rows, bool) & ~self.in_force & self.is_kept)
         if not rows.size:
             return
         self.in_force[rows] = True
@@ -198,38 +210,45 @@ class StrengthProblem(ScaledProblem):
             cost[:self.nl] = cost_lam
         hi = np.full(n, INF)
         if held is not None and held.any():
-            hi[:self.nl][held] = 0.0
+            hi[:self.nl][self.zeroed(held)] = 0.0
         # a row held or priced must be in force (a free sigma with a cost is unbounded)
-        self._bring_into_force((hi[:self.nl] == 0.0) | (cost[:self.nl] != 0.0))
+        self._bring_into_force(self._rows_of((hi[:self.nl] == 0.0) | (cost[:self.nl] != 0.0)))
         self.stat.set_cost(cost)
         while True:
             # a facet not in force has its sigma free: its row says nothing
             lo = self.free.copy()
-            lo[:self.nl][~self.in_force] = -INF
+            lo[:self.nl][~self.in_force[self.kept]] = -INF
             self.stat.set_bounds(lo, hi)
             status = self.stat.solve(cap, self.deadline)
             if status != "optimal":
                 return status, None
             x = self.stat.x()
-            late = ~self.in_force & (x[:self.nl] < -LP_TOLERANCE)
+            late = ~self.in_force[self.kept] & (x[:self.nl] < -LP_TOLERANCE)
             if not late.any():
                 break
-            self._bring_into_force(late)
+            self._bring_into_force(self._rows_of(late))
             self.facet_rounds += 1
         x[:self.nl] = np.maximum(x[:self.nl], 0.0)
         x[-1] = max(x[-1], 0.0)
         return status, x
 
+    def _rows_of(self, columns):
+        """The yield rows (a mask) of the sigma columns ``columns`` (a mask)."""
+        rows = np.zeros(self.nr, bool)
+        rows[self.kept[np.asarray(columns, bool)]] = True
+        return rows
+
     def zeroed(self, held):
-        """The sigma columns that holding the rows ``held`` bounds at 0: theirs."""
-        return np.asarray(held, bool).copy()
+        """The sigma columns that holding the rows ``held`` bounds at 0: theirs (a copy's
+        is the row's it copies)."""
+        return self.row_of_pair.T @ np.asarray(held, float) > 0
 
     def slack(self, x):
-        return self.w * x[:self.nl]
+        return self.row_of_pair @ (self.w_kept * x[:self.nl])
 
     def gap_weights(self, xi, u=None):
         """The weights of x = (sigma, ...) in alpha_K - alpha = xi^T (w sigma) (virtual work)."""
-        return self.w * np.asarray(xi, float)
+        return self.w_kept * (self.row_of_pair.T @ np.asarray(xi, float))
 
     def cohesive_N(self, xc):
         return xc[:self.nc]
@@ -279,7 +298,7 @@ class StrengthProblem(ScaledProblem):
         polygon (the rows left out are slack, their flows 0), the same LP as with every
         facet, at the cost of the few facets near each joint's N (with f_c large, eq. 4's
         rows alone)."""
-        out = ~self.in_force & (hi < INF)  # rows that may flow and are not in the LP
+        out = ~self.in_force & (hi < INF) & self.is_kept  # rows that may flow and are not in the LP
         while True:
             k = self.fict_rows
             lp.set_row_bounds(np.concatenate([-self.f0, np.full(k.size, -INF)]), np.concatenate([-self.f0, hi[k]]))
