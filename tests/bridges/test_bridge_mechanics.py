@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import INSTANCES
 from oracle import check_state
 
 from lamodel.bridges import bridge_spec, read_bridge
@@ -82,6 +83,24 @@ def test_deeper_fill_and_a_wider_spread_raise_the_adequacy_factor():
     base = alpha(bridge())
     assert alpha(bridge(fill={"depth": 0.8})) > base
     assert alpha(bridge(fill={"spread": 45.0})) > base > alpha(bridge(fill={"spread": 15.0}))
+
+
+def test_an_axle_at_the_crown_collapses_the_arch():
+    """With the axle at the crown the associative bound is infinite (the thrust can follow
+    the load's funicular), and the LPs of the passive restraints, whose facets come into
+    force only when violated, were unbounded before they came in: "no collapse" was
+    reported where a five-hinge mechanism exists."""
+    demo = json.loads((INSTANCES / "bridge_demo.json").read_text())
+    demo["load"]["positions"] = [0.0]
+    for b in (bridge(load={"positions": [0.0]}), read_bridge(demo)):
+        o = outcome(b, x=0.0)
+        assert np.isfinite(o.best.alpha) and o.best.alpha > 0
+
+
+def test_boussinesq_dispersal_is_certified_and_deeper_fill_still_helps():
+    elastic = {"dispersal": "boussinesq"}
+    base = alpha(bridge(fill=elastic))
+    assert alpha(bridge(fill={**elastic, "depth": 0.8})) > base > 0
 
 
 def test_backing_raises_the_adequacy_factor():

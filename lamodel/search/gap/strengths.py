@@ -220,6 +220,11 @@ class StrengthProblem(ScaledProblem):
             lo[:self.nl][~self.in_force[self.kept]] = -INF
             self.stat.set_bounds(lo, hi)
             status = self.stat.solve(cap, self.deadline)
+            if status == "unbounded" and not self.in_force[self.kept].all():
+                # the facets left out may be what bounds it: all of them, once
+                self._bring_into_force(self.is_kept)
+                self.facet_rounds += 1
+                continue
             if status != "optimal":
                 return status, None
             x = self.stat.x()
@@ -303,6 +308,12 @@ class StrengthProblem(ScaledProblem):
             k = self.fict_rows
             lp.set_row_bounds(np.concatenate([-self.f0, np.full(k.size, -INF)]), np.concatenate([-self.f0, hi[k]]))
             status = lp.solve(deadline=self.deadline)
+            if status == "unbounded" and out.any():
+                # the facets left out may be what bounds it: all of them, once
+                self._bring_into_force(out)
+                out[:] = False
+                self.facet_rounds += 1
+                continue
             if status != "optimal":
                 return status
             s_f = lp.x()[:3 * self.nc]
