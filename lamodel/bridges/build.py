@@ -47,8 +47,8 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
             f"{bridge.voussoirs} voussoirs{crushing}), width {bridge.width:g}{skew}, backing to {bridge.backing:g}; fill {bridge.fill_depth:g} over the crown, "
             f"unit weight {bridge.fill_weight:g}, phi {bridge.phi:g} deg, lateral {bridge.lateral} "
             f"(K = {lateral_coefficient(bridge):.4g}), passive {bridge.passive:g} K_p "
-            f"(K_p = {passive_coefficient(bridge.phi):.4g}){'' if passive else ' left out'}, spread "
-            f"{bridge.spread:g} deg; {len(bridge.axles)} axle(s) of {bridge.force:g}, patch {bridge.patch:g}.")
+            f"(K_p = {passive_coefficient(bridge.phi):.4g}){'' if passive else ' left out'}, "
+            f"{'Boussinesq dispersal' if bridge.dispersal == 'boussinesq' else f'spread {bridge.spread:g} deg'}; {len(bridge.axles)} axle(s) of {bridge.force:g}, patch {bridge.patch:g}.")
     if bridge.source:
         text += " Sources: " + "; ".join(f"{k}: {v}" for k, v in bridge.source.items()) + "."
     spec = {"name": bridge.name, "description": text, "mu": bridge.mu,

@@ -49,7 +49,10 @@ RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu", "fc", "co
 ABUTMENT_FIELDS = ("height", "width", "kind")
 #: Abutments and piers: rigid supports, or masonry blocks free to slide and turn on a rigid ground.
 ABUTMENT_KINDS = ("rigid", "block")
-FILL_FIELDS = ("depth", "unit_weight", "phi", "lateral", "passive", "spread")
+FILL_FIELDS = ("depth", "unit_weight", "phi", "lateral", "passive", "spread", "dispersal")
+#: How surface loads reach the extrados (lamodel.bridges.fill): spread at an angle, or
+#: Boussinesq's stresses under a strip on an elastic half-space.
+DISPERSAL = ("spread", "boussinesq")
 LOAD_FIELDS = ("force", "axles", "patch", "positions")
 #: The arch's shape: circular (semicircular when rise = span / 2), a semi-ellipse, or two
 #: circular arcs meeting at the crown (rise > span / 2).
@@ -101,6 +104,7 @@ class Bridge:
     lateral: str = "at_rest"
     passive: float = 0.33            # mobilised fraction of the passive pressure K_p sigma_v
     spread: float = 30.0             # dispersal angle of surface loads, from the vertical (degrees)
+    dispersal: str = "spread"        # or "boussinesq" (lamodel.bridges.fill)
     force: float = 100.0             # per axle, whole width, downwards
     axles: tuple = (0.0,)
     patch: float = 0.0               # length of each axle's patch on the road surface
@@ -291,6 +295,9 @@ def _read_fill(b: Bridge, fill: dict, at: str):
     b.spread = _positive(fill, "spread", at, Bridge.spread, strict=False)
     if b.spread >= 90:
         raise InputError(f"{at}: 'spread' is {b.spread:g}; expected an angle from the vertical in degrees, below 90")
+    b.dispersal = fill.get("dispersal", Bridge.dispersal)
+    if b.dispersal not in DISPERSAL:
+        raise InputError(f"{at}: 'dispersal' is {json.dumps(b.dispersal)[:30]}; expected one of {', '.join(DISPERSAL)}")
 
 
 def _read_load(b: Bridge, load: dict, at: str):

@@ -7,9 +7,13 @@ LimitState:RING's theory manual): forces on the extrados of the ring, chord by c
   pushing the ring towards mid-span; K is at rest, active or zero.
 * **Surface loads** (live): each axle's line load, on a patch of length a, spreads through
   the fill at the angle theta from the vertical: at depth z it is spread uniformly over
-  ``a + 2 z tan(theta)``. The intensities are integrated over each chord and scaled so
-  that the shares (with what lands beyond the springings, carried by the abutments) sum to
-  the axle's force.
+  ``a + 2 z tan(theta)``. Or (``dispersal: "boussinesq"``) as the vertical stress under a
+  strip load on an elastic half-space (Boussinesq 1885; the strip's closed form as in Poulos
+  & Davis 1974): ``sigma_z = p / pi (t1 - t2 + sin t1 cos t1 - sin t2 cos t2)``,
+  ``t1,2 = arctan((x -/+ a / 2) / z)`` from the strip's centre, sampled out to
+  BOUSSINESQ_REACH depths beyond the patch (the share beyond, below 0.05 %, is left out).
+  The intensities are integrated over each chord and scaled so that the shares (with what
+  lands beyond the springings, carried by the abutments) sum to the axle's force.
 * **Passive restraint**: where the ring moves into the fill, the fill resists up to the
   mobilised passive pressure ``m K_p gamma_f z`` on the chord's vertical projection; the
   horizontal pressure already applied is part of it, so the restraint (a one-way bounded
@@ -24,7 +28,7 @@ import math
 
 import numpy as np
 
-from ..search.tuning import BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES
+from ..search.tuning import BOUSSINESQ_REACH, BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES
 from .description import Bridge, lateral_coefficient, passive_coefficient
 from .deck import deck_bed, deck_blocks, restraint_support, span_centre
 
@@ -106,13 +110,19 @@ def live_loads(bridge: Bridge, lead: float, case: str) -> list:
     springings)."""
     ch = chords(bridge)
     tan = math.tan(math.radians(bridge.spread))
+    deepest = bridge.road - min(p[1] for _, p, _ in ch)
+    patch = max(bridge.patch, BRIDGE_KNIFE_EDGE * bridge.span)
+    elastic = bridge.dispersal == "boussinesq"
     force, moment = np.zeros(len(ch)), np.zeros(len(ch))
     for offset in bridge.axles:
         x0 = lead + offset
-        reach = abs(x0) + bridge.patch / 2 + (bridge.road - min(p[1] for _, p, _ in ch)) * tan
+        reach = abs(x0) + bridge.patch / 2 + deepest * (BOUSSINESQ_REACH if elastic else tan)
         xs, dx, zs, owner = _samples(bridge, ch, reach)
-        width = np.maximum(bridge.patch + 2 * zs * tan, BRIDGE_KNIFE_EDGE * bridge.span)
-        q = np.where(np.abs(xs - x0) <= width / 2, dx / width, 0.0)   # the intensity at depth z, integrated
+        if elastic:
+            q = strip_stress(xs - x0, zs, patch) * dx
+        else:
+            width = np.maximum(bridge.patch + 2 * zs * tan, BRIDGE_KNIFE_EDGE * bridge.span)
+            q = np.where(np.abs(xs - x0) <= width / 2, dx / width, 0.0)   # the intensity at depth z, integrated
         if q.sum() <= 0:
             continue
         q *= bridge.force / q.sum()   # the axle's force, shared (beyond the springings: the abutments')
@@ -122,6 +132,17 @@ def live_loads(bridge: Bridge, lead: float, case: str) -> list:
     rigid = _on_support(bridge)
     return [{"block": block, "at": _on_chord(p, q, 0, moment[i] / force[i]), "force": [0.0, -force[i]],
              "kind": "live", "case": case} for i, (block, p, q) in enumerate(ch) if force[i] > 0 and block not in rigid]
+
+
+def strip_stress(x, z, a):
+    """Boussinesq's vertical stress at depth z (> 0) and offset x from the centre of a strip
+    of width a loaded by a unit pressure on an elastic half-space (module doc); at z = 0 the
+    pressure itself (1 on the strip, 0 beside it). Over any depth it integrates to a."""
+    x, z = np.asarray(x, float), np.asarray(z, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t1 = np.arctan2(x + a / 2, z)
+        t2 = np.arctan2(x - a / 2, z)
+    return (t1 - t2 + np.sin(t1) * np.cos(t1) - np.sin(t2) * np.cos(t2)) / np.pi
 
 
 def _samples(bridge: Bridge, ch, reach: float):

@@ -12,7 +12,7 @@ import pytest
 from conftest import INSTANCES, ROOT
 
 from lamodel.bridges import bridge_spec, read_bridge
-from lamodel.bridges.fill import dead_loads, live_loads, restraints
+from lamodel.bridges.fill import dead_loads, live_loads, restraints, strip_stress
 from lamodel.bridges.ring import extrados
 from lamodel.errors import InputError
 from lamodel.io.jsonspec import structure_from_spec, structure_to_json
@@ -66,6 +66,44 @@ def test_an_axle_within_the_span_puts_its_whole_force_on_the_ring():
     narrow = live_loads(bridge(fill={"spread": 10.0}), -1.5, "c")
     wide = live_loads(bridge(fill={"spread": 45.0}), -1.5, "c")
     assert len(wide) > len(narrow)
+
+
+def test_boussinesqs_strip_stress_carries_the_load_and_tends_to_flamants_line_load():
+    a = 0.3
+    x = np.linspace(-400.0, 400.0, 800001)
+    for z in (0.05, 0.5, 2.0):
+        s = strip_stress(x, z, a)
+        # equilibrium: every depth carries the strip's load (the tails beyond 400 m: < 1e-5)
+        assert np.trapezoid(s, x) == pytest.approx(a, rel=1e-4)
+        assert s.max() == pytest.approx(strip_stress(0.0, z, a)) and s.max() <= 1.0
+    # the peak falls with depth; at the surface the pressure is the strip's
+    peaks = [strip_stress(0.0, z, a) for z in (0.1, 0.5, 1.0, 3.0)]
+    assert all(p > q for p, q in zip(peaks, peaks[1:]))
+    assert strip_stress([0.0, 0.1, 0.2], 0.0, a) == pytest.approx([1.0, 1.0, 0.0])
+    # a narrow strip is Flamant's line load P = a: 2 P z^3 / (pi (x^2 + z^2)^2)
+    z, xs = 1.0, np.array([0.0, 0.5, 1.5, 4.0])
+    flamant = 2 * 1e-3 * z ** 3 / (np.pi * (xs ** 2 + z ** 2) ** 2)
+    assert strip_stress(xs, z, 1e-3) == pytest.approx(flamant, rel=1e-5)
+
+
+def test_boussinesq_dispersal_spreads_the_axle_wider_the_deeper_the_fill():
+    def spread(b, x=0.0):
+        loads = live_loads(b, x, "c")
+        f = np.array([-l["force"][1] for l in loads])
+        at = np.array([l["at"][0] for l in loads])
+        centre = (f * at).sum() / f.sum()
+        return f.sum(), np.sqrt((f * (at - centre) ** 2).sum() / f.sum()), f.max(), centre
+
+    shallow = spread(bridge(fill={"dispersal": "boussinesq", "depth": 0.2}))
+    deep = spread(bridge(fill={"dispersal": "boussinesq", "depth": 1.0}))
+    for carried, _, _, centre in (shallow, deep):
+        assert 0.8 * 50.0 < carried < 50.0   # the tails beyond the springings: the abutments'
+        assert abs(centre) < 1e-9                             # symmetric under a central axle
+    assert deep[1] > 1.5 * shallow[1] and deep[2] < shallow[2]
+    # off-centre, the same axle as the 30 deg spread puts more of it beyond its patch
+    b_spread, b_elastic = bridge(), bridge(fill={"dispersal": "boussinesq"})
+    assert spread(b_elastic, -1.5)[1] > spread(b_spread, -1.5)[1]
+    assert "Boussinesq" in bridge_spec(b_elastic)["description"]
 
 
 def test_an_axle_at_the_springing_leaves_part_of_its_force_to_the_abutment():
@@ -124,7 +162,7 @@ def test_restraints_survive_writing_the_structure_back():
     ({"ring": {"thickness": "thick"}}, "'thickness'"), ({"fill": {"phi": 95}}, "'phi'"),
     ({"fill": {"lateral": "sideways"}}, "'lateral'"), ({"fill": {"spread": 90}}, "'spread'"),
     ({"load": {"positions": []}}, "'positions'"), ({"width": 0}, "'width'"), ({"skew": 95}, "'skew'"),
-    ({"abutments": {"kind": "floating"}}, "'kind'")])
+    ({"abutments": {"kind": "floating"}}, "'kind'"), ({"fill": {"dispersal": "elastic"}}, "'dispersal'")])
 def test_bad_values_name_their_field(change, field):
     with pytest.raises(InputError, match=field):
         bridge(**change)
