@@ -151,15 +151,21 @@ def _study(args, prog) -> int:
 
 # ----------------------------------------------------------------------------- compare
 def _compare_arguments(p):
-    p.add_argument("a", metavar="A", help="reference result: a result folder or its summary.csv")
+    p.add_argument("a", metavar="A", help="reference result: a result folder or its summary.csv, or the folder "
+                   "(or adequacy.csv) of a bridge run's --adequacy")
     p.add_argument("b", metavar="B", help="result to compare with A")
     p.add_argument("--atol", type=tolerance, default=1e-5, help="absolute tolerance on alpha; forces are compared "
                    "with atol*max(1, max|N| of A), displacements with atol*max(1, max|u| of A) (default: %(default)g)")
 
 
 def _compare(args, prog) -> int:
+    from .bridges.compare import adequacy_path, compare_adequacy, read_adequacy
     from .output.compare import compare_results, print_comparison, read_result
-    table, differ = compare_results(read_result(args.a), read_result(args.b), args.atol)
+    bridges = adequacy_path(args.a), adequacy_path(args.b)
+    if all(bridges):  # two bridge runs: their adequacy tables
+        table, differ = compare_adequacy(read_adequacy(bridges[0]), read_adequacy(bridges[1]), args.atol)
+    else:
+        table, differ = compare_results(read_result(args.a), read_result(args.b), args.atol)
     return print_comparison(table, differ, args.a, args.b, args.atol)
 
 

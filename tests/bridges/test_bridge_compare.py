@@ -1,0 +1,65 @@
+"""lamodel compare on two bridge runs: their adequacy tables matched by load position,
+the governing factor of each, exit 0 (agree), 1 (differ) and 2 (bad input, one line)."""
+import pandas as pd
+import pytest
+
+from lamodel.bridges import read_bridge
+from lamodel.bridges.adequacy import adequacy_study, write_adequacy
+from lamodel.bridges.compare import compare_adequacy, read_adequacy
+from lamodel.cli import command
+from lamodel.search.driver import SolveOptions
+
+BRIDGE = {"name": "b", "span": 5.0, "rise": 1.25, "width": 1.0,
+          "ring": {"thickness": 0.3, "voussoirs": 12, "unit_weight": 20.0, "mu": 0.6},
+          "fill": {"depth": 0.3, "unit_weight": 18.0, "phi": 35.0, "passive": 0.33},
+          "load": {"force": 50.0, "patch": 0.2, "positions": [-1.5, -0.75]}}
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """Two runs of one bridge, with and without the passive restraint, and the first again."""
+    b = read_bridge(BRIDGE)
+    options = SolveOptions(starts=0, progress=False)
+    out = {}
+    for name, passive in (("with", True), ("again", True), ("without", False)):
+        folder = tmp_path_factory.mktemp(name)
+        write_adequacy(b, adequacy_study(b, options, passive=passive), folder)
+        out[name] = folder
+    return out
+
+
+def compare(capsys, a, b):
+    code = command("compare", [str(a), str(b)], prog="lamodel compare")
+    return code, capsys.readouterr()
+
+
+def test_the_same_bridge_run_twice_agrees(runs, capsys):
+    code, (out, _) = compare(capsys, runs["with"], runs["again"] / "adequacy.csv")
+    assert code == 0 and "A and B agree" in out
+    assert "x=-1.5" in out and "governing" in out
+
+
+def test_without_the_passive_restraint_each_position_carries_less(runs, capsys):
+    code, (out, _) = compare(capsys, runs["with"], runs["without"])
+    assert code == 1 and "A and B differ" in out
+    a = pd.read_csv(runs["with"] / "adequacy.csv")
+    b = pd.read_csv(runs["without"] / "adequacy.csv")
+    assert (b["adequacy"] <= a["adequacy"] * (1 + 1e-9)).all() and (b["adequacy"] < a["adequacy"]).any()
+    table, differ = compare_adequacy(read_adequacy(runs["with"] / "adequacy.csv"),
+                                     read_adequacy(runs["without"] / "adequacy.csv"), 1e-5)
+    assert differ
+    assert table.loc["governing", "A"] == pytest.approx(a["adequacy"].min(), rel=1e-12)
+    assert table.loc["governing", "B"] == pytest.approx(b["adequacy"].min(), rel=1e-12)
+
+
+def test_other_positions_and_bad_tables_are_said(runs, capsys, tmp_path):
+    other = pd.read_csv(runs["with"] / "adequacy.csv")
+    other["position"] += 0.25
+    (tmp_path / "moved").mkdir()
+    other.to_csv(tmp_path / "moved" / "adequacy.csv", index=False)
+    code, (out, _) = compare(capsys, runs["with"], tmp_path / "moved")
+    assert code == 1 and "only in A" in out
+    (tmp_path / "bad").mkdir()
+    other.drop(columns="adequacy").to_csv(tmp_path / "bad" / "adequacy.csv", index=False)
+    code, (_, err) = compare(capsys, runs["with"], tmp_path / "bad")
+    assert code == 2 and "no column 'adequacy'" in err and len(err.strip().splitlines()) == 1
