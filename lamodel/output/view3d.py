@@ -3,8 +3,9 @@
 
 The reader turns and zooms the structure; the blocks at rest are faint, the moving blocks
 drawn displaced and coloured by macro-block (blocks moving together); a slider sets the
-amplification (0 = at rest). Contact points whose mode is opening or sliding are marked;
-live loads are arrows from the block centroids.
+amplification (0 = at rest). Contact points whose mode is opening, sliding or crushing (a
+point at its cap f_c A, closing: :func:`lamodel.search.certify3d.point_modes`) are marked,
+crushing ones by diamonds; live loads are arrows from the block centroids.
 """
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ from ..structure3d import Structure3D
 from .motion3d import check_motions, default_amplification, displaced, macro_blocks
 
 _PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"]
-_MODE_COLOURS = {"open": "#d62728", "opening": "#d62728", "slide": "#1f5fbf", "sliding": "#1f5fbf"}
+_MODE_COLOURS = {"open": "#d62728", "opening": "#d62728", "slide": "#1f5fbf", "sliding": "#1f5fbf",
+                 "crushing": "#7f2704", "crushing+sliding": "#e6550d"}
 STEPS = (0.0, 0.25, 0.5, 1.0, 1.5, 2.0)
 
 
@@ -81,8 +83,10 @@ def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: 
             hit = modes == mode
             if hit.any():
                 p = s.point[hit]
+                crushed = mode.startswith("crushing")   # a zone, not a gap: drawn larger, as diamonds
                 traces.append(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers", name=f"{mode} contacts",
-                                           marker=dict(size=3, color=colour)))
+                                           marker=dict(size=5 if crushed else 3, color=colour,
+                                                       symbol="diamond" if crushed else "circle")))
     live = np.linalg.norm(s.live, axis=1)
     if live.max() > 0:   # arrows: a shaft from the centroid, a dot at the head (many: off, in the legend)
         shown = True if s.n_blocks <= 60 else "legendonly"

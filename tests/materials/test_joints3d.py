@@ -266,3 +266,18 @@ def test_a_tension_state_passes_the_oracle(tmp_path):
     opening = c["mode"] == "opening"
     assert opening.sum() == 2 and np.allclose(c["N"][opening], 0.1 * A * B / 4)
     assert violations(o) == []
+
+
+def test_the_view_marks_the_crushed_points(tmp_path):
+    """--view of a box pushed over with crushing: the points at their cap are drawn as a
+    'crushing contacts' trace of diamonds; the dry box's view has none."""
+    f = tmp_path / "box.json"
+    f.write_text(json.dumps(box_spec()))
+    pages = {}
+    for name, extra in (("crushing", ["--fc", "6"]), ("dry", [])):
+        view = tmp_path / f"{name}.html"
+        assert command("solve", [str(f), "--out", str(tmp_path / name), "--no-plot", "--quiet",
+                                 "--view", str(view), *extra]) == 0
+        pages[name] = view.read_text()
+    assert '"name":"crushing contacts"' in pages["crushing"] and '"symbol":"diamond"' in pages["crushing"]
+    assert "crushing contacts" not in pages["dry"]
