@@ -40,7 +40,8 @@ def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:
     crushing = f", fc {bridge.fc:g}" if bridge.fc is not None else ", no crushing"
     skew = f", skew {bridge.skew:g} deg (not modelled)" if bridge.skew else ""
     arches = (f"span {bridge.span:g}, rise {bridge.rise:g}" if not bridge.piers else
-              "spans " + ", ".join(f"{s:g} (rise {r:g}, {shape})" for s, r, shape in bridge.spans) + " on piers "
+              "spans " + ", ".join(f"{s:g} (rise {r:g}, {shape}{_own_ring(ring)})" for s, r, shape, ring in bridge.spans)
+              + " on piers "
               + ", ".join(f"{p.width:g} wide, {p.height:g} high ({p.kind})" for p in bridge.piers))
     text = (f"{bridge.description + ' ' if bridge.description else ''}Built from a bridge description: "
             f"{arches}, ring {bridge.thickness:g} ({bridge.rings} ring(s) of "
@@ -69,9 +70,14 @@ def ring_bond(bridge: Bridge) -> list:
     """The mortar between the rings: ``joints`` entries (:mod:`lamodel.io.jsonspec`) giving
     every ring interface the ring's ``cohesion`` and ``ft``; the radial joints stay dry."""
     bond = {key: value for key, value in (("cohesion", bridge.cohesion), ("ft", bridge.ft)) if value}
-    prefixes = [f"s{k + 1}" for k in range(len(bridge.spans))] if bridge.piers else [""]
-    return [{"between": [p + voussoir_id(bridge, k, i), p + voussoir_id(bridge, k + 1, i)], **bond}
-            for p in prefixes for k in range(bridge.rings - 1) for i in range(bridge.voussoirs)]
+    parts = [(f"s{k + 1}", bridge.part(k)) for k in range(len(bridge.spans))] if bridge.piers else [("", bridge)]
+    return [{"between": [p + voussoir_id(part, k, i), p + voussoir_id(part, k + 1, i)], **bond}
+            for p, part in parts for k in range(part.rings - 1) for i in range(part.voussoirs)]
+
+
+def _own_ring(ring: tuple) -> str:
+    """A span's own ring values in the built file's description ('' when it has none)."""
+    return "".join(f", ring {key} {value:g}" for key, value in ring)
 
 
 def case_positions(bridge: Bridge) -> dict:

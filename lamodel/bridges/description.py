@@ -42,7 +42,9 @@ from ..io.jsonfields import json_object, load_spec, number, units
 
 TOP_FIELDS = ("name", "description", "source", "units", "shape", "span", "rise", "spans", "piers", "width", "skew", "ring",
               "abutments", "backing", "fill", "load")
-SPAN_FIELDS = ("span", "rise", "shape")
+SPAN_FIELDS = ("span", "rise", "shape", "ring")
+#: What a span's own ``ring`` may change of the bridge's ring.
+SPAN_RING_FIELDS = ("thickness", "rings", "voussoirs", "fc")
 PIER_FIELDS = ("height", "width", "kind")
 BACKING_FIELDS = ("height",)
 RING_FIELDS = ("thickness", "rings", "voussoirs", "unit_weight", "mu", "fc", "cohesion", "ft")
@@ -92,7 +94,8 @@ class Bridge:
     fc: float | None = None          # the ring's compressive strength (None: no crushing)
     cohesion: float = 0.0            # mortar bond on the ring interfaces: shear cohesion
     ft: float = 0.0                  # and tensile strength (force / length^2)
-    spans: tuple = ()                # several spans: (span, rise, shape) each, left to right
+    spans: tuple = ()                # several spans: (span, rise, shape, ring) each, left to right;
+    #                                  ring: the span's own ring values, ((field, value), ...)
     piers: tuple = ()                # the Pier between each two spans
     abutment_height: float = 1.0
     abutment_width: float = 1.0
@@ -130,7 +133,9 @@ class Bridge:
 
     @property
     def road(self) -> float:
-        """The road surface's level (the crown's extrados plus the fill over it)."""
+        """The road surface's level (the highest crown's extrados plus the fill over it)."""
+        if self.spans:
+            return max(s[1] + dict(s[3]).get("thickness", self.thickness) for s in self.spans) + self.fill_depth
         return self.rise + self.thickness + self.fill_depth
 
     def mirrored(self) -> "Bridge":
@@ -145,9 +150,11 @@ class Bridge:
         """Span k of several as a one-span bridge (x = 0 at its own mid-span), its fill depth
         such that the road is level over every span."""
         import dataclasses
-        span, rise, shape = self.spans[k]
-        return dataclasses.replace(self, span=span, rise=rise, shape=shape, spans=(), piers=(),
-                                   fill_depth=self.road - rise - self.thickness)
+        span, rise, shape, ring = self.spans[k]
+        ring = dict(ring)
+        thickness = ring.get("thickness", self.thickness)
+        return dataclasses.replace(self, span=span, rise=rise, shape=shape, spans=(), piers=(), **ring,
+                                   fill_depth=self.road - rise - thickness)
 
 
 def _positive(obj, key, at, default=None, minimum=0.0, strict=True):
@@ -190,6 +197,8 @@ def read_bridge(source) -> Bridge:
         raise InputError(f"{where} has no 'ring'; expected \"ring\": {{\"thickness\": ...}}")
     ring = json_object(spec["ring"], f"{where}: ring", "'ring'", RING_FIELDS)
     at = f"{where}: ring"
+    if not piers and spans[0][3]:
+        raise InputError(f"{where}: spans[0]: 'ring' in a bridge of one span; expected the bridge's own 'ring'")
     b = Bridge(name=str(spec.get("name", "bridge")), span=span, rise=rise, width=width, shape=shape, skew=skew,
                thickness=_positive(ring, "thickness", at),
                rings=_whole(ring, "rings", at, 1, 1), voussoirs=_whole(ring, "voussoirs", at, 24, 3),
@@ -202,11 +211,12 @@ def read_bridge(source) -> Bridge:
                source=_source(spec, where))
     for k in range(len(spans)):
         one = b.part(k) if piers else b
-        if one.shape == "pointed" and b.voussoirs % 2:
-            raise InputError(f"{at}: 'voussoirs' is {b.voussoirs}; expected an even number for a pointed arch (a "
+        here = f"{where}: spans[{k}]: ring" if piers and spans[k][3] else at
+        if one.shape == "pointed" and one.voussoirs % 2:
+            raise InputError(f"{here}: 'voussoirs' is {one.voussoirs}; expected an even number for a pointed arch (a "
                              "joint at the apex)")
-        if b.thickness >= one.least_radius:
-            raise InputError(f"{at}: 'thickness' is {b.thickness:g}; expected less than the intrados' least radius "
+        if one.thickness >= one.least_radius:
+            raise InputError(f"{here}: 'thickness' is {one.thickness:g}; expected less than the intrados' least radius "
                              f"of curvature {one.least_radius:.4g}")
     abut = json_object(spec.get("abutments", {}), f"{where}: abutments", "'abutments'", ABUTMENT_FIELDS)
     at = f"{where}: abutments"
@@ -241,6 +251,19 @@ def _arch(obj: dict, at: str) -> tuple:
     return span, rise, shape
 
 
+def _span_ring(ring, at: str) -> tuple:
+    """A span's own ring values, ((field, value), ...): its thickness, rings, voussoirs or
+    crushing strength instead of the bridge's ring's."""
+    ring = json_object(ring, at, "the span's ring", SPAN_RING_FIELDS)
+    out = []
+    for key in SPAN_RING_FIELDS:
+        if key in ring:
+            value = (_whole(ring, key, at, None, 1 if key == "rings" else 3) if key in ("rings", "voussoirs")
+                     else _positive(ring, key, at))
+            out.append((key, value))
+    return tuple(out)
+
+
 def _spans(spec: dict, where: str) -> tuple:
     """The arches, left to right, and the piers between them: one span (``span``, ``rise``,
     ``shape``) or ``spans`` and ``piers``, one pier fewer than spans."""
@@ -248,7 +271,7 @@ def _spans(spec: dict, where: str) -> tuple:
         if "piers" in spec:
             raise InputError(f"{where}: 'piers' without 'spans'; expected \"spans\": [{{\"span\": ..., \"rise\": ...}}, "
                              "...] with a pier between each two")
-        return (_arch(spec, where),), ()
+        return ((*_arch(spec, where), ()),), ()
     given = [key for key in ("span", "rise", "shape") if key in spec]
     if given:
         raise InputError(f"{where}: '{given[0]}' beside 'spans'; expected it inside each entry of 'spans'")
@@ -258,8 +281,12 @@ def _spans(spec: dict, where: str) -> tuple:
     if not isinstance(piers, list) or len(piers) != len(spans) - 1:
         raise InputError(f"{where}: 'piers' is {json.dumps(piers)[:40]}; expected a list of {len(spans) - 1} "
                          f"pier(s), one between each two of the {len(spans)} spans")
-    arches = tuple(_arch(json_object(s, f"{where}: spans[{k}]", "a span", SPAN_FIELDS), f"{where}: spans[{k}]")
-                   for k, s in enumerate(spans))
+    arches = []
+    for k, raw in enumerate(spans):
+        at = f"{where}: spans[{k}]"
+        s = json_object(raw, at, "a span", SPAN_FIELDS)
+        arches.append((*_arch(s, at), _span_ring(s.get("ring", {}), f"{at}: ring")))
+    arches = tuple(arches)
     out = []
     for k, raw in enumerate(piers):
         at = f"{where}: piers[{k}]"

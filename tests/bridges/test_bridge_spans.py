@@ -95,7 +95,38 @@ def test_the_fill_runs_on_over_the_piers_and_the_road_is_level():
     assert weight == pytest.approx(18.0 * 1.0 * (b.road * length - under), rel=1e-9)
 
 
+def test_a_span_of_its_own_ring_is_built_with_it_and_carries_more_when_thicker():
+    """The second span's ring 0.45 thick of 16 voussoirs (the first's: the bridge's 0.3, 12):
+    its voussoirs are that thick and that many, the road stays level over the thicker
+    crown, and an axle on that span finds a higher collapse load than on the same bridge
+    with one ring for both."""
+    own = {"thickness": 0.45, "voussoirs": 16}
+    b = read_bridge(spec(spans=[{"span": 6.0, "rise": 1.5}, {"span": 6.0, "rise": 1.5, "ring": own}]))
+    blocks = {k["id"]: np.array(k["vertices"]) for k in bridge_spec(b)["blocks"]}
+    first = [v for k, v in blocks.items() if k.startswith("s1v")]
+    second = [v for k, v in blocks.items() if k.startswith("s2v")]
+    assert len(first) == 12 and len(second) == 16
+    # a voussoir's radial joints are as long as its ring is thick
+    for v, t in ((first[3], 0.3), (second[5], 0.45)):
+        sides = np.hypot(*(np.roll(v, -1, axis=0) - v).T)
+        assert np.sum(np.isclose(sides, t, rtol=1e-9)) == 2, sides
+    assert b.road == pytest.approx(1.5 + 0.45 + 0.4)
+    assert b.part(0).fill_depth == pytest.approx(0.4 + 0.15) and b.part(1).fill_depth == pytest.approx(0.4)
+    assert "ring thickness 0.45" in bridge_spec(b)["description"]
+    uniform = read_bridge(spec())
+    assert alpha(b, 2.0) > alpha(uniform, 2.0)
+
+
+def test_a_spans_ring_warns_of_what_it_cannot_change():
+    with pytest.warns(UserWarning, match="mu"):
+        read_bridge(spec(spans=[{"span": 6.0, "rise": 1.5}, {"span": 6.0, "rise": 1.5, "ring": {"mu": 0.3}}]))
+
+
 @pytest.mark.parametrize("changes, field", [
+    ({"spans": [{"span": 6.0, "rise": 1.5}, {"span": 6.0, "rise": 1.5, "ring": {"thickness": -0.3}}]}, "'thickness'"),
+    ({"spans": [{"span": 6.0, "rise": 1.5}, {"span": 6.0, "rise": 1.5, "ring": {"voussoirs": 2.5}}]}, "'voussoirs'"),
+    ({"spans": [{"span": 6.0, "rise": 1.5, "ring": {"rings": 2}}], "piers": []}, "'ring'"),
+
     ({"piers": [{"height": 3.0, "width": -1.0}]}, "'width'"),
     ({"piers": [{"height": 3.0, "width": 0.2}]}, "'width'"),     # no room for the springing joints
     ({"piers": []}, "'piers'"),
