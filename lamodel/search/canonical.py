@@ -1,21 +1,22 @@
-"""The canonical order of a planar assembly's blocks and contacts: the search works on it,
-and its answers are told back in the user's order.
+"""The canonical order of an assembly's blocks and contacts: the search works on it, and
+its answers are told back in the user's order.
 
-The LPs of the search are degenerate: the vertex a solve returns depends on the order of
-its rows and columns, so the collapse state the search reaches would otherwise depend on
-how the file was written (blocks shuffled, the ground first or last, other ids). The
-canonical order depends only on the geometry and the loads:
+The LPs and cone programs of the search are degenerate: the vertex a solve returns
+depends on the order of its rows and columns, so the collapse state the search reaches
+would otherwise depend on how the file was written (blocks shuffled, the ground first or
+last, other ids). The canonical order depends only on the geometry and the loads;
+coordinates are compared on a grid of CANONICAL_TOLERANCE times the structure's size:
 
-* blocks by their centroid (y, then x: course after course, left to right), rounded to
-  CANONICAL_TOLERANCE times the structure's size; ties by area, then by vertices, then by
-  loads;
-* contacts by the canonical ranks of their two bodies (the lower first; the supports after
-  every block, among themselves by their own centroid), then by their centre along the
-  joint; the restraints a file gave stay last, as the formulation expects.
+* blocks by their centroid (the vertical coordinate first: course after course, then
+  along it), ties by their vertices, then by their loads;
+* the supports after every block, among themselves by their mean vertex;
+* planar contacts by the canonical ranks of their two bodies (the lower first), then by
+  their centre along the joint; the restraints a file gave stay last, as the formulation
+  expects. In space the interfaces likewise (by their polygon's mean vertex), and the
+  contact points by their interface's rank, then their position.
 
 Ids are kept, so every output names the user's blocks and contacts; :func:`to_user` puts
-the arrays of a collapse state back in the user's order. In space (:class:`Structure3D`)
-the order is the user's (not canonicalised).
+a collapse state's arrays back in the user's order.
 """
 from __future__ import annotations
 
@@ -24,104 +25,143 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..structure import Structure
-from .state import CollapseState
+from ..structure3d import Structure3D
 from .tuning import CANONICAL_TOLERANCE
+
+#: per-contact arrays of a collapse state (planar; in space per contact point), stacked by
+#: kind where a contact has several rows (the yield rows of eq. 4; openings and slips)
+STATE_PER_CONTACT = ("N", "V", "M", "xi", "flow", "T1", "T2", "q", "crushable")
 
 
 @dataclass(frozen=True)
 class Order:
     """Canonical position -> the user's index: ``blocks[j]`` is the user's block at
-    canonical row j, ``contacts[k]`` the user's contact at canonical row k."""
+    canonical row j, ``contacts[k]`` the user's contact (in space: contact point) at
+    canonical row k; ``interfaces`` likewise in space (None in the plane)."""
 
     blocks: np.ndarray
     contacts: np.ndarray
+    interfaces: np.ndarray | None = None
+
+    def kept(self) -> bool:
+        return all(x is None or np.array_equal(x, np.arange(len(x))) for x in (self.blocks, self.contacts,
+                                                                                self.interfaces))
 
 
 def canonical(structure):
     """The structure in its canonical order and the :class:`Order` that maps it back (None
-    where the order is kept: in space, or already canonical)."""
-    if not isinstance(structure, Structure):
-        return structure, None
+    where the file's order is already canonical)."""
     order = canonical_order(structure)
-    if (np.array_equal(order.blocks, np.arange(structure.n_blocks))
-            and np.array_equal(order.contacts, np.arange(structure.n_contacts))):
+    if order.kept():
         return structure, None
     bo, co = order.blocks, order.contacts
-    per_block = {k: getattr(structure, k)[bo] for k in ("centroid", "dead", "live", "dead_m", "live_m")}
-    per_contact = {k: getattr(structure, k)[co] for k in ("centre", "normal", "d", "mu", "fc", "ft", "cohesion",
-                                                          "thickness")}
-    ids = {k: [getattr(structure, k)[i] for i in idx]
-           for k, idx in (("blocks", bo), ("contacts", co), ("block_a", co), ("block_b", co))}
-    return dataclasses.replace(structure, **per_block, **per_contact, **ids), order
+    names = ("centroid", "dead", "live", "dead_m", "live_m") + (("volume",) if _in_space(structure) else ())
+    new = {k: getattr(structure, k)[bo] for k in names}
+    new["blocks"] = [structure.blocks[j] for j in bo]
+    if _in_space(structure):
+        io = order.interfaces
+        rank = np.empty_like(io)
+        rank[io] = np.arange(len(io))
+        for k in ("interfaces", "iface_a", "iface_b", "iface_polygon"):
+            new[k] = [getattr(structure, k)[i] for i in io]
+        if len(structure.iface_holes) == len(io):
+            new["iface_holes"] = [structure.iface_holes[i] for i in io]
+        new["point_interface"] = rank[structure.point_interface[co]]
+        points = ("point", "normal", "tangent1", "tangent2", "mu", "fc", "ft", "cohesion")
+        new.update({k: getattr(structure, k)[co] for k in points})
+        new["area"] = structure.area[co] if structure.area is not None else None
+    else:
+        contacts = ("centre", "normal", "d", "mu", "fc", "ft", "cohesion", "thickness")
+        new.update({k: getattr(structure, k)[co] for k in contacts})
+        for k in ("contacts", "block_a", "block_b"):
+            new[k] = [getattr(structure, k)[i] for i in co]
+    return dataclasses.replace(structure, **new), order
 
 
-def canonical_order(s: Structure) -> Order:
+def canonical_order(s) -> Order:
     """The canonical order of the blocks and contacts of ``s`` (see the module doc)."""
-    size = s.size()
-    tol = CANONICAL_TOLERANCE * size
+    tol = CANONICAL_TOLERANCE * s.size()
 
-    def grid(x, unit):  # coordinates equal within the tolerance compare equal
+    def grid(x, unit=tol):  # coordinates equal within the tolerance compare equal
         return tuple(int(v) for v in np.round(np.ravel(x) / unit))
 
-    polygon = {k: np.asarray(v, dtype=float).reshape(-1, 2) for k, v in s.polygons.items()}
+    def up_first(p):  # the vertical coordinate first: (y, x) in the plane, (z, y, x) in space
+        return grid(np.asarray(p)[::-1])
+
+    vertices = _vertices(s)
+    shape = {k: tuple(sorted(grid(p) for p in v)) for k, v in vertices.items()}
     loads = np.column_stack([s.dead, s.live, s.dead_m, s.live_m])
     load_unit = CANONICAL_TOLERANCE * max(float(np.abs(loads).max(initial=0.0)), 1e-300)
-
-    def shape(body):  # area, then the vertices as a set (where the file gave the polygon)
-        v = polygon.get(body)
-        if v is None or len(v) < 3:
-            return (0,), ()
-        area = 0.5 * abs(float(np.dot(v[:, 0], np.roll(v[:, 1], -1)) - np.dot(v[:, 1], np.roll(v[:, 0], -1))))
-        return grid(area, tol * size), tuple(sorted(grid(p, tol) for p in v))
-
-    block_keys = [(grid(c[::-1], tol), *shape(b), grid(f, load_unit))
-                  for b, c, f in zip(s.blocks, s.centroid, loads)]
-    blocks = np.array(sorted(range(s.n_blocks), key=lambda j: (block_keys[j], j)), dtype=int)
+    keys = [(up_first(c), shape.get(b, ()), grid(f, load_unit)) for b, c, f in zip(s.blocks, s.centroid, loads)]
+    blocks = np.array(sorted(range(s.n_blocks), key=lambda j: (keys[j], j)), dtype=int)
     rank = {s.blocks[j]: r for r, j in enumerate(blocks)}
+    placed = sorted(s.supports, key=lambda b: (up_first(vertices[b].mean(axis=0)), shape[b], b) if b in vertices
+                    else ((), (), b))
+    rank.update({b: s.n_blocks + r for r, b in enumerate(placed)})
 
-    def support_key(body):  # supports by their polygon's mean vertex (else by id: no geometry)
-        v = polygon.get(body)
-        return (0, grid(v.mean(axis=0)[::-1], tol), shape(body)[1]) if v is not None and len(v) else (1, body)
+    def ends(a, b):
+        return sorted((rank[a], rank[b]))
 
-    for r, body in enumerate(sorted(s.supports, key=support_key)):
-        rank[body] = s.n_blocks + r
-    along = np.einsum("ij,ij->i", s.centre, s.tangent)
-    first_restraint = s.n_contacts - s.restraints
+    if not _in_space(s):
+        along = np.einsum("ij,ij->i", s.centre, s.tangent)
+        first_restraint = s.n_contacts - s.restraints
+        contacts = sorted(range(s.n_contacts), key=lambda k: (
+            k >= first_restraint, ends(s.block_a[k], s.block_b[k]), grid(along[k]), up_first(s.centre[k]),
+            grid(s.normal[k], CANONICAL_TOLERANCE), k))
+        return Order(blocks, np.array(contacts, dtype=int))
+    faces = sorted(range(s.n_interfaces), key=lambda i: (
+        ends(s.iface_a[i], s.iface_b[i]), up_first(np.asarray(s.iface_polygon[i]).mean(axis=0)), i))
+    face_rank = np.empty(len(faces), dtype=int)
+    face_rank[faces] = np.arange(len(faces))
+    points = sorted(range(s.n_points), key=lambda k: (
+        face_rank[s.point_interface[k]], up_first(s.point[k]), grid(s.normal[k], CANONICAL_TOLERANCE), k))
+    return Order(blocks, np.array(points, dtype=int), np.array(faces, dtype=int))
 
-    def contact_key(k):
-        ends = sorted((rank[s.block_a[k]], rank[s.block_b[k]]))
-        return (k >= first_restraint, ends, grid(along[k], tol), grid(s.centre[k][::-1], tol),
-                grid(s.normal[k], CANONICAL_TOLERANCE), k)
 
-    contacts = np.array(sorted(range(s.n_contacts), key=contact_key), dtype=int)
-    return Order(blocks, contacts)
-
-
-def to_user(state: CollapseState | None, order: Order | None) -> CollapseState | None:
-    """A collapse state of the canonical structure, in the user's order of blocks and contacts."""
+def to_user(state, order: Order | None):
+    """A collapse state of the canonical structure (planar or in space), in the user's order
+    of blocks and contacts."""
     if state is None or order is None:
         return state
     bo, co = order.blocks, order.contacts
-
-    def per_contact(x, width=1):  # stacked by kind (N; or the 4 yield rows), contact after contact
-        x = np.asarray(x).reshape(width, -1)
-        out = np.empty_like(x)
-        out[:, co] = x
-        return out.reshape(-1) if width > 1 else out[0]
-
+    back = {}
+    for name in STATE_PER_CONTACT:
+        x = getattr(state, name, None)
+        if x is not None:
+            kinds = np.size(x) // len(co)
+            x = np.asarray(x).reshape(kinds, len(co))
+            out = np.empty_like(x)
+            out[:, co] = x
+            back[name] = out.reshape(-1) if kinds > 1 else out[0]
     u = np.asarray(state.u).reshape(len(bo), -1)
-    u_user = np.empty_like(u)
-    u_user[bo] = u
-    return dataclasses.replace(state, N=per_contact(state.N), V=per_contact(state.V), M=per_contact(state.M),
-                               u=u_user.reshape(-1), xi=per_contact(state.xi, 4), flow=per_contact(state.flow, 4))
+    back["u"] = np.empty_like(u)
+    back["u"][bo] = u
+    back["u"] = back["u"].reshape(-1)
+    fields = {f.name for f in dataclasses.fields(state)}
+    out = dataclasses.replace(state, **{k: v for k, v in back.items() if k in fields})
+    for k, v in back.items():  # the mechanism's flows set on a state in space after it was made
+        if k not in fields:
+            setattr(out, k, v)
+    return out
 
 
 def rows_to_user(rows, order: Order | None):
-    """Indices of yield rows (4 nc, stacked by row kind) of the canonical structure, in the
-    user's numbering (sorted)."""
+    """Indices of the search's rows (stacked by kind, contact after contact within each:
+    4 a contact in the plane, 2 a contact point in space) of the canonical structure, in
+    the user's numbering (sorted)."""
     if rows is None or order is None:
         return rows
     rows = np.asarray(rows, dtype=int)
     nc = len(order.contacts)
     return np.sort(rows // nc * nc + order.contacts[rows % nc])
+
+
+def _in_space(s) -> bool:
+    return isinstance(s, Structure3D)
+
+
+def _vertices(s) -> dict:
+    """Body id -> its vertices (k, d), where the file gave the polygon or polyhedron."""
+    if _in_space(s):
+        return {k: np.asarray(v[0], dtype=float).reshape(-1, 3) for k, v in s.polyhedra.items() if len(v[0])}
+    return {k: np.asarray(v, dtype=float).reshape(-1, 2) for k, v in s.polygons.items() if len(v)}

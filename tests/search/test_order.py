@@ -5,8 +5,11 @@ same collapse state after the same LP work (the search works on the canonical or
 columns would otherwise decide which vertex a solve returns), told in the user's ids."""
 import numpy as np
 import pytest
+from builders3d import transformed
 
 from lamodel.geometry import running_bond_wall
+from lamodel.geometry.generators3d import wall_panel
+from lamodel.io.json3d import structure3d_from_spec
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.search.canonical import canonical, canonical_order, to_user
 from lamodel.search.certify import RESIDUAL_TOLERANCE, residuals
@@ -90,3 +93,29 @@ def test_every_order_of_the_file_gives_the_same_state_after_the_same_work(mu):
         # the same mechanism and forces, found on each user's own blocks and contacts
         np.testing.assert_allclose([u[k] for k in u0], [u0[k] for k in u0], atol=1e-9)
         np.testing.assert_allclose([f[k] for k in f0], [f0[k] for k in f0], atol=1e-9)
+
+
+def test_in_space_every_order_gives_the_same_state_after_the_same_work():
+    """A wall panel in space with its blocks and contact points renumbered: the same
+    canonical structure, the same multiplier after the same work, and each block's motion
+    and each point's forces told back on the user's own blocks and points."""
+    s = structure3d_from_spec(wall_panel(length=1.6, courses=3))
+    rng = np.random.default_rng(3)
+    m = transformed(s, block_order=rng.permutation(s.n_blocks), point_order=rng.permutation(s.n_points))
+    c, _ = canonical(s)
+    d, _ = canonical(m)
+    for name in ("centroid", "point", "normal", "tangent1", "point_interface", "mu"):
+        np.testing.assert_array_equal(getattr(c, name), getattr(d, name), err_msg=name)
+    out = [solve(x, SolveOptions(progress=False)) for x in (s, m)]
+    assert all(o.certified for o in out)
+    assert out[0].best.alpha == pytest.approx(out[1].best.alpha, rel=1e-9, abs=0)
+    assert out[0].work == out[1].work
+    key = lambda p: tuple(np.round(p, 9))  # noqa: E731
+    for o, x in zip(out, (s, m)):
+        o.by_block = {b: tuple(np.round(o.best.u[6 * j:6 * j + 6], 9)) for j, b in enumerate(x.blocks)}
+        o.by_point = {(x.interfaces[x.point_interface[k]], key(p)): (o.best.N[k], o.best.T1[k], o.best.T2[k])
+                      for k, p in enumerate(x.point)}
+    assert out[0].by_block == out[1].by_block
+    assert len(out[0].by_point) == s.n_points and out[0].by_point.keys() == out[1].by_point.keys()
+    np.testing.assert_allclose([out[1].by_point[k] for k in out[0].by_point], list(out[0].by_point.values()),
+                               atol=1e-9)
