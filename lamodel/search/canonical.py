@@ -9,7 +9,8 @@ coordinates are compared on a grid of CANONICAL_TOLERANCE times the structure's 
 
 * blocks by their centroid (the vertical coordinate first: course after course, then
   along it), ties by their vertices, then by their loads;
-* the supports after every block, among themselves by their mean vertex;
+* the supports after every block, among themselves by their mean vertex (or, where the
+  file gave no geometry, their contacts' mean centre);
 * planar contacts by the canonical ranks of their two bodies (the lower first), then by
   their centre along the joint; the restraints a file gave stay last, as the formulation
   expects. In space the interfaces likewise (by their polygon's mean vertex), and the
@@ -95,8 +96,8 @@ def canonical_order(s) -> Order:
     keys = [(up_first(c), shape.get(b, ()), grid(f, load_unit)) for b, c, f in zip(s.blocks, s.centroid, loads)]
     blocks = np.array(sorted(range(s.n_blocks), key=lambda j: (keys[j], j)), dtype=int)
     rank = {s.blocks[j]: r for r, j in enumerate(blocks)}
-    placed = sorted(s.supports, key=lambda b: (up_first(vertices[b].mean(axis=0)), shape[b], b) if b in vertices
-                    else ((), (), b))
+    where = _support_places(s, vertices)
+    placed = sorted(s.supports, key=lambda b: (up_first(where[b]), shape.get(b, ()), b) if b in where else ((), (), b))
     rank.update({b: s.n_blocks + r for r, b in enumerate(placed)})
 
     def ends(a, b):
@@ -158,6 +159,21 @@ def rows_to_user(rows, order: Order | None):
 
 def _in_space(s) -> bool:
     return isinstance(s, Structure3D)
+
+
+def _support_places(s, vertices) -> dict:
+    """Support id -> a point that places it: its mean vertex, or (a file without its
+    geometry) the mean of its contacts' centres (in space: of its interfaces' polygons)."""
+    if _in_space(s):
+        ends, centres = (s.iface_a, s.iface_b), [np.asarray(p).mean(axis=0) for p in s.iface_polygon]
+    else:
+        ends, centres = (s.block_a, s.block_b), s.centre
+    touching = {}
+    for side in ends:
+        for body, c in zip(side, centres):
+            touching.setdefault(body, []).append(c)
+    return {b: vertices[b].mean(axis=0) if b in vertices else np.mean(touching[b], axis=0)
+            for b in s.supports if b in vertices or b in touching}
 
 
 def _vertices(s) -> dict:

@@ -3,6 +3,8 @@ same running-bond wall with its blocks shuffled, the ground first, or other ids 
 same collapse state after the same LP work (the search works on the canonical order of
 :mod:`lamodel.search.canonical`; the LPs are degenerate, so the file's order of rows and
 columns would otherwise decide which vertex a solve returns), told in the user's ids."""
+import dataclasses
+
 import numpy as np
 import pytest
 from builders3d import transformed
@@ -56,6 +58,10 @@ def test_the_canonical_order_depends_on_the_geometry_not_on_the_file():
         # ids are the user's: the same block sits at the same place
         place = dict(zip(s.blocks, map(tuple, s.centroid)))
         assert [place[b] for b in c.blocks] == [tuple(p) for p in written.centroid]
+        # a file without the polygons (a .dat file): the centroids, loads and contacts decide
+        bare, _ = canonical(dataclasses.replace(s, polygons={}))
+        np.testing.assert_array_equal(bare.centre, written.centre)
+        np.testing.assert_array_equal(bare.centroid, written.centroid)
 
 
 def test_a_state_told_back_is_a_collapse_state_of_the_users_file():
