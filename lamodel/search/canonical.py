@@ -16,7 +16,8 @@ coordinates are compared on a grid of CANONICAL_TOLERANCE times the structure's 
   expects. In space the interfaces likewise (by their polygon's mean vertex), and the
   contact points by their interface's rank, then their position.
 
-Ids are kept, so every output names the user's blocks and contacts; :func:`to_user` puts
+Joints with strengths (fc, ft, cohesion) are solved in the file's order (see
+:func:`canonical`). Ids are kept, so every output names the user's blocks and contacts; :func:`to_user` puts
 a collapse state's arrays back in the user's order.
 """
 from __future__ import annotations
@@ -52,6 +53,11 @@ class Order:
 def canonical(structure):
     """The structure in its canonical order and the :class:`Order` that maps it back (None
     where the file's order is already canonical)."""
+    if structure.has_materials:
+        # joints with strengths stay in the file's order: on a bridge ring with fc = 1e6 the
+        # canonical order leaves HiGHS with no status on the associative LP (its facets
+        # span 2e-4 to 6e2), where the file's order solves
+        return structure, None
     order = canonical_order(structure)
     if order.kept():
         return structure, None
