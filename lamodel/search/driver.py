@@ -48,6 +48,7 @@ from ..structure import Structure
 from ..structure3d import Structure3D
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .budget import Budget
+from .canonical import canonical, rows_to_user, to_user
 from .ipopt import start_pool
 from .options import SolveOptions, Stopped
 from .plan import phase, run as run_plan
@@ -87,6 +88,9 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     structure.validate()
     opt.validate()
     _check_solver(opt)
+    # the search works on the blocks and contacts in their canonical order (the LPs are
+    # degenerate: the file's order would decide which state they reach); answers told back
+    user, (structure, order) = structure, canonical(structure)
     sigint = threading.Event()  # Ctrl-C
     asked = sigint.is_set if stop is None else (lambda: sigint.is_set() or bool(stop()))
     budget = Budget.for_solve(opt.time_limit, asked)
@@ -146,16 +150,17 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and budget.expired() and not budget.asked():
         message += " (the time limit stopped the search)"
     runs.sort(key=lambda r: r.start)
-    best = record.best_user if record is not None and status in (CERTIFIED, INTERRUPTED) else None
+    best = to_user(record.best_user, order) if record is not None and status in (CERTIFIED, INTERRUPTED) else None
     found = f"alpha {best.alpha:.6f} ({path_of(best)})" if best is not None else message
     log.info("%s: %s after %.2f s", status, found, time.perf_counter() - t0)
-    return Outcome(structure, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
+    stall = record.stall if record is not None and best is None and status != UNSTABLE else None
+    return Outcome(user, best, alpha_assoc, runs, status, message, time.perf_counter() - t0, opt.seed,
                    first=record.first if record is not None and record.first else (np.nan, np.nan),
                    phases=dict(record.phases) if record is not None else {},
                    history=list(record.history) if record is not None else [],
                    lps_first=lps_first, work=engine.problem.work() if engine is not None else 0,
                    certification_lps=getattr(engine.problem, "n_lp", 0) if engine is not None else 0,
-                   stalled=record.stall if record is not None and best is None and status != UNSTABLE else None)
+                   stalled=stall[:3] + (rows_to_user(stall[3], order),) if stall is not None else None)
 
 
 # ------------------------------------------------------------------------ the search

@@ -20,6 +20,7 @@ import dataclasses
 import time
 
 from ..structure import Structure
+from .canonical import canonical, to_user
 from .options import Deadline, SolveOptions
 from .published.associative import Associative
 from .published.mpec import MPEC
@@ -69,7 +70,9 @@ def run_method(name: str, structure: Structure, options: SolveOptions | None = N
                          "are solved by --method lamodel")
     t0 = time.perf_counter()
     deadline = Deadline.after(opt.time_limit)
-    lps = LimitLPs(structure)
+    # every method works on the canonical order (the search puts the structure in it itself)
+    work, order = (structure, None) if name == "lamodel" else canonical(structure)
+    lps = LimitLPs(work)
     lps.deadline = deadline
     if name == "lamodel":
         return lamodel_search(structure, opt, lps, t0)
@@ -79,7 +82,10 @@ def run_method(name: str, structure: Structure, options: SolveOptions | None = N
                             iterations=lps.n_solves, seed=opt.seed)
     pop, gens = seed_budget or (None, None)  # either may be unset (None): the seed's own
     strategy = STRATEGIES.get(name) or SeedGA(pop or SEED_POP_SIZE, gens or SEED_GENERATIONS)
-    return strategy.method(structure, opt, lps, assoc, t0, deadline)
+    result = strategy.method(work, opt, lps, assoc, t0, deadline)
+    if order is not None:  # told in the user's order of blocks and contacts
+        result.structure, result.state = structure, to_user(result.state, order)
+    return result
 
 
 def run_methods(name: str, structure: Structure, options: SolveOptions | None = None,

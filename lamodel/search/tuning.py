@@ -130,6 +130,12 @@ LIGHT_BLOCK = 1e-3
 #: off by about 1e-16 / (this ratio) of its own size.
 SIZE_RESOLUTION = 1e-8
 
+# ============================================ the canonical order (search/canonical.py)
+#: Centroids, vertices and joint positions equal within this fraction of the structure's
+#: size (loads: of the largest load) compare equal when the blocks and contacts are put in
+#: their canonical order: far above round-off of written coordinates, far below any joint.
+CANONICAL_TOLERANCE = 1e-6
+
 # ================================================================= the GA and the driver
 #: GA genes: log-perturbations of the cohesions, within +-Z_MAX; the initial population's
 #: spreads cycle through Z_INIT (small, medium and large perturbations).
