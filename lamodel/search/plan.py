@@ -7,8 +7,8 @@ runs.csv's ``path``; how each works: docs/method/search.md):
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
 4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
-   lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
-   already is left out);
+   lane [continuation (rho from 30), dilatancy continuation] beside lane [slow continuation
+   (rho doubled from 1)] (a once-a-search strategy that ran already is left out);
 5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
 6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
    successive cone (in space)] from the associative statics, each raw answer certified and
@@ -25,7 +25,7 @@ import logging
 import numpy as np
 
 from .gap.chains import FixedPoint, FromZero
-from .gap.continuation import Continuation
+from .gap.continuation import Continuation, SlowContinuation
 from .gap.dilatancy import Dilatancy
 from .gap.lanes import Lane
 from .gap import phases
@@ -46,7 +46,8 @@ log = logging.getLogger(__name__)
 IF_STALLED = Lane((SingleBlocks(), FromZero(cold=True), Rescue(), FixedPoint()), until_certified=True)
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
 #: After stability: the continuation lanes.
-CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
+CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())),
+                 Lane((SlowContinuation(),)))
 #: After the GA: the published fixed-point methods (each skips the formulation not its own).
 PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
 

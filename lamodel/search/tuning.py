@@ -47,6 +47,10 @@ RHO_HIGH = (1e5, 1e6, 1e7)
 #: move far from the associative state's mechanism; two ladders, side by side, because each
 #: certifies a lower alpha only about half of the time.
 RHO_CONTS = ((10.0, 100.0, 1e3, 1e4), (30.0, 300.0, 1e3, 1e4))
+#: The slow continuation's ladder: rho doubled from 1 to 256, then 1e3, 1e4 (the MPEC's
+#: relaxation sequence in the penalty's terms: the statics follows one family of mechanisms
+#: down where the quick ladders jump past it).
+RHO_SLOW = tuple(2.0 ** k for k in range(9)) + (1e3, 1e4)
 #: A mechanism whose gap is below GAP_CERTIFY * max(1, alpha) is worth a certification LP.
 GAP_CERTIFY = 1e-6
 #: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold

@@ -14,7 +14,8 @@ def _lanes():
 def test_every_strategy_of_the_plan_is_named_as_a_path_of_runs_csv():
     names = {name for lane in _lanes() for name in lane.names}
     assert names == {"single block", "rescue", "chain from zero cohesion", "fixed-point fallback",
-                     "dilatancy continuation", "continuation", "successive LP", "successive cone"}
+                     "dilatancy continuation", "continuation", "slow continuation", "successive LP",
+                     "successive cone"}
     assert names <= set(PATHS.values())
 
 
