@@ -233,6 +233,7 @@ def _without(names):
     # a lane cut to nothing is left out (the lanes beside each other share the work bounds)
     plan.CONTINUATIONS = tuple(lane for lane in map(cut, plan.CONTINUATIONS) if lane.strategies)
     plan.PUBLISHED = cut(plan.PUBLISHED)
+    plan.SLOW = cut(plan.SLOW)
 
 
 def _assignments(items):

@@ -268,6 +268,10 @@ PROJECTION_REFINEMENTS, POLISH_NEWTON_STEPS = 4, 40
 #: search's LP work so far (its LPs have 4 rows a contact more than the search's; the 50-stone
 #: wall where it gives the best needs 3.5, less gives nothing there: benchmarks/lanes.py).
 PUBLISHED_SHARE = 4.0
+#: The slow continuation (plan.SLOW, after the published methods) may spend this many times
+#: the search's LP work so far: its ladder ends by itself in 40-80 LP solves on the family
+#: cases (docs/method/evidence.md, "The slow continuation").
+SLOW_SHARE = 1.0
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
 SLP_TOLERANCE = 1e-8
 #: successive LP: at most this many LPs after the associative one

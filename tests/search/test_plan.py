@@ -8,7 +8,7 @@ from lamodel.search.driver import PATHS
 
 
 def _lanes():
-    return (plan.IF_STALLED, *plan.BESIDE_STALLED, *plan.CONTINUATIONS, plan.PUBLISHED)
+    return (plan.IF_STALLED, *plan.BESIDE_STALLED, *plan.CONTINUATIONS, plan.PUBLISHED, plan.SLOW)
 
 
 def test_every_strategy_of_the_plan_is_named_as_a_path_of_runs_csv():

@@ -1,5 +1,5 @@
-"""The slow continuation (lamodel/search/gap/continuation.py: SlowContinuation, a lane of
-plan.CONTINUATIONS): where the quick penalty ladders jump past a family of mechanisms, the
+"""The slow continuation (lamodel/search/gap/continuation.py: SlowContinuation, plan.SLOW,
+run after the published methods): where the quick penalty ladders jump past a family of mechanisms, the
 slow ladder follows it down to a lower collapse state, which the default run reports and
 names in runs.csv; elsewhere it leaves alpha as it was."""
 import numpy as np
@@ -10,6 +10,7 @@ from lamodel.geometry import running_bond_wall, stone_wall
 from lamodel.io.datfile import read_dat
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.search import plan
+from lamodel.search.gap.lanes import Lane
 from lamodel.search.driver import SolveOptions, path_of, solve
 
 from .helpers import collapse_violation
@@ -32,8 +33,7 @@ def stones(n, seed, mu):
 def solved(structure, slow, monkeypatch):
     with monkeypatch.context() as m:
         if not slow:
-            m.setattr(plan, "CONTINUATIONS", tuple(lane for lane in plan.CONTINUATIONS
-                                                   if "slow continuation" not in lane.names))
+            m.setattr(plan, "SLOW", Lane(()))
         return solve(structure, OPTIONS)
 
 
