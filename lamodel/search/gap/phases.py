@@ -71,23 +71,26 @@ def published(engine, x_assoc, lane, workers=1):
     (:meth:`.lanes.Lanes.beside`): its states, LP solves and work merged into the search's.
     Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far,
     within the formulation's work bound (the default run's whole-search bound)."""
-    return last_lane(engine, x_assoc, lane, PUBLISHED_SHARE, workers, "published methods")
+    work = engine.budget.work()
+    return last_lane(engine, x_assoc, lane, min(work * (1.0 + PUBLISHED_SHARE), engine.problem.work_bound()),
+                     workers, "published methods")
 
 
 def slow(engine, x_assoc, lane, workers=1):
-    """The slow continuation's ``lane`` after the published methods, as they are run
-    (:func:`last_lane`, SLOW_SHARE): what ran before it is as without it."""
-    return last_lane(engine, x_assoc, lane, SLOW_SHARE, workers, "slow continuation")
+    """The slow continuation's ``lane`` after the published methods, as they are run, on a
+    share of its own: SLOW_SHARE times the search's LP work so far, beyond the whole-search
+    bound (which the published methods may have spent), so that what ran before it is as
+    without it."""
+    return last_lane(engine, x_assoc, lane, engine.budget.work() * (1.0 + SLOW_SHARE), workers, "slow continuation")
 
 
-def last_lane(engine, x_assoc, lane, share, workers, phase):
+def last_lane(engine, x_assoc, lane, bound, workers, phase):
     """``lane`` from the associative statics after the rest of the search, a pure evaluation
     whose states, LP solves and work are merged into the search's; without a time limit
-    bounded by ``share`` times the search's LP work so far, within the formulation's work
-    bound. Returns its least certified state (or None)."""
+    bounded by the LP work ``bound``. Returns its least certified state (or None)."""
     budget = engine.budget
     if budget.rule is not None:
-        budget.bound(None, min(budget.work() * (1.0 + share), engine.problem.work_bound()))
+        budget.bound(None, bound)
     return engine.lanes.beside([lane], Start(x_assoc), workers, phase=phase)[0]
 
 
