@@ -78,10 +78,12 @@ def published(engine, x_assoc, lane, workers=1):
 
 def slow(engine, x_assoc, lane, workers=1):
     """The slow continuation's ``lane`` after the published methods, as they are run, on a
-    share of its own: SLOW_SHARE times the search's LP work so far, beyond the whole-search
-    bound (which the published methods may have spent), so that what ran before it is as
-    without it."""
-    return last_lane(engine, x_assoc, lane, engine.budget.work() * (1.0 + SLOW_SHARE), workers, "slow continuation")
+    share of its own beyond the whole-search bound (which the published methods may have
+    spent), so that what ran before it is as without it: SLOW_SHARE times the search's LP
+    work so far, at most SLOW_SHARE times that bound, in whole units of LP work (none: no LP)."""
+    work = engine.budget.work()
+    return last_lane(engine, x_assoc, lane, work + int(SLOW_SHARE * min(work, engine.problem.work_bound())), workers,
+                     "slow continuation")
 
 
 def last_lane(engine, x_assoc, lane, bound, workers, phase):
