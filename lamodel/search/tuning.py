@@ -269,9 +269,8 @@ PROJECTION_REFINEMENTS, POLISH_NEWTON_STEPS = 4, 40
 #: wall where it gives the best needs 3.5, less gives nothing there: benchmarks/lanes.py).
 PUBLISHED_SHARE = 4.0
 #: The slow continuation (plan.SLOW, after the published methods) may spend this many times
-#: the search's LP work so far (at most this many times the whole-search bound), beyond that
-#: bound: its ladder ends by itself in 40-80 LP solves on the family cases (0.3-10 % of
-#: their work; docs/method/evidence.md, "The slow continuation").
+#: the LP work so far (at most times the whole-search bound), beyond that bound: its ladder
+#: ends by itself in 40-80 LP solves (docs/method/evidence.md, "The slow continuation").
 SLOW_SHARE = 0.1
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
 SLP_TOLERANCE = 1e-8
