@@ -230,8 +230,10 @@ def _without(names):
         return Lane(tuple(s for s in lane.strategies if s.name not in names), lane.until_certified)
     plan.IF_STALLED = cut(plan.IF_STALLED)
     plan.BESIDE_STALLED = tuple(cut(lane) for lane in plan.BESIDE_STALLED)
-    plan.CONTINUATIONS = tuple(cut(lane) for lane in plan.CONTINUATIONS)
+    # a lane cut to nothing is left out (the lanes beside each other share the work bounds)
+    plan.CONTINUATIONS = tuple(lane for lane in map(cut, plan.CONTINUATIONS) if lane.strategies)
     plan.PUBLISHED = cut(plan.PUBLISHED)
+    plan.SLOW = cut(plan.SLOW)
 
 
 def _assignments(items):

@@ -166,7 +166,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
 # ------------------------------------------------------------------------ the search
 #: The paths that certify a state, by the first word of its source (runs.csv, ``path``).
 PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fallback",
-         "zero": "chain from zero cohesion", "continuation": "continuation", "dilatancy": "dilatancy continuation",
+         "zero": "chain from zero cohesion", "continuation": "continuation", "slow": "slow continuation",
+         "dilatancy": "dilatancy continuation",
          "genome": "GA", "ipopt": "Ipopt polish", "single": "single block", "slp": "successive LP",
          "scp": "successive cone"}
 

@@ -7,13 +7,16 @@ runs.csv's ``path``; how each works: docs/method/search.md):
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
 4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
-   lane [continuation (rho from 30), dilatancy continuation] (a once-a-search lane that ran
-   already is left out);
+   lane [continuation (rho from 30), dilatancy continuation] (a once-a-search strategy that
+   ran already is left out);
 5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
 6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
    successive cone (in space)] from the associative statics, each raw answer certified and
    descended, its work counted and bounded (:func:`.gap.phases.published`);
-7. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
+7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics,
+   bounded as the published methods (:func:`.gap.phases.slow`), so that all before it runs
+   as without it;
+8. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
 order written: the same answer with any number of workers (:mod:`.gap.lanes`).
@@ -25,7 +28,7 @@ import logging
 import numpy as np
 
 from .gap.chains import FixedPoint, FromZero
-from .gap.continuation import Continuation
+from .gap.continuation import Continuation, SlowContinuation
 from .gap.dilatancy import Dilatancy
 from .gap.lanes import Lane
 from .gap import phases
@@ -49,6 +52,8 @@ BESIDE_STALLED = (Lane((Dilatancy(),)),)
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
 #: After the GA: the published fixed-point methods (each skips the formulation not its own).
 PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
+#: Last: the slow continuation, alone, so that every phase before it runs as without it.
+SLOW = Lane((SlowContinuation(),))
 
 
 def first_certificate(engine, x_assoc, workers=1):
@@ -62,7 +67,7 @@ def continuations(engine, x_assoc, workers=1):
 
 
 def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1):
-    """Phases 1-6 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
+    """Phases 1-7 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
     :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the
     lanes' threads (:mod:`.workers`). Returns (what, alpha_assoc, LP solves of the first
     certificate): what is 'searched', 'stopped' (a stop or the time limit), 'unstable', or
@@ -96,6 +101,9 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         if x0 is not None and np.isfinite(alpha_assoc) and PUBLISHED.strategies:
             phase(progress, "published methods")
             phases.published(engine, x0, PUBLISHED, workers)
+        if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies:
+            phase(progress, "slow continuation")
+            phases.slow(engine, x0, SLOW, workers)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first

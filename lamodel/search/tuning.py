@@ -47,6 +47,10 @@ RHO_HIGH = (1e5, 1e6, 1e7)
 #: move far from the associative state's mechanism; two ladders, side by side, because each
 #: certifies a lower alpha only about half of the time.
 RHO_CONTS = ((10.0, 100.0, 1e3, 1e4), (30.0, 300.0, 1e3, 1e4))
+#: The slow continuation's ladder: rho doubled from 1 to 256, then 1e3, 1e4 (the MPEC's
+#: relaxation sequence in the penalty's terms: the statics follows one family of mechanisms
+#: down where the quick ladders jump past it).
+RHO_SLOW = tuple(2.0 ** k for k in range(9)) + (1e3, 1e4)
 #: A mechanism whose gap is below GAP_CERTIFY * max(1, alpha) is worth a certification LP.
 GAP_CERTIFY = 1e-6
 #: Below this gap (times max(1, alpha)) a mechanism flowing on slack rows triggers a hold
@@ -270,6 +274,10 @@ PROJECTION_REFINEMENTS, POLISH_NEWTON_STEPS = 4, 40
 #: search's LP work so far (its LPs have 4 rows a contact more than the search's; the 50-stone
 #: wall where it gives the best needs 3.5, less gives nothing there: benchmarks/lanes.py).
 PUBLISHED_SHARE = 4.0
+#: The slow continuation (plan.SLOW, after the published methods) may spend this many times
+#: the LP work so far (at most times the whole-search bound), beyond that bound: its ladder
+#: ends by itself in 40-80 LP solves (docs/method/evidence.md, "The slow continuation").
+SLOW_SHARE = 0.1
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
 SLP_TOLERANCE = 1e-8
 #: successive LP: at most this many LPs after the associative one

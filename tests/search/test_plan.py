@@ -8,13 +8,14 @@ from lamodel.search.driver import PATHS
 
 
 def _lanes():
-    return (plan.IF_STALLED, *plan.BESIDE_STALLED, *plan.CONTINUATIONS, plan.PUBLISHED)
+    return (plan.IF_STALLED, *plan.BESIDE_STALLED, *plan.CONTINUATIONS, plan.PUBLISHED, plan.SLOW)
 
 
 def test_every_strategy_of_the_plan_is_named_as_a_path_of_runs_csv():
     names = {name for lane in _lanes() for name in lane.names}
     assert names == {"single block", "rescue", "chain from zero cohesion", "fixed-point fallback",
-                     "dilatancy continuation", "continuation", "successive LP", "successive cone"}
+                     "dilatancy continuation", "continuation", "slow continuation", "successive LP",
+                     "successive cone"}
     assert names <= set(PATHS.values())
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from ..tuning import RHO_CONTS, RHO_HIGH
+from ..tuning import RHO_CONTS, RHO_HIGH, RHO_SLOW
 from .record import least
 
 
@@ -20,6 +20,7 @@ class Continuation:
 
     rhos: tuple = RHO_CONTS[0]
     name = "continuation"
+    source = "continuation"  # runs.csv's path of what it certifies (driver.PATHS)
     once = None
 
     def run(self, engine, start):
@@ -27,13 +28,25 @@ class Continuation:
         near, alternate, record = engine.near, engine.alternation.alternate, engine.record
         try:
             with engine.budget.lane():  # the time limit or a stop: the search's to handle
-                best, x = alternate(start.x_assoc, rhos=self.rhos, source="continuation")
+                best, x = alternate(start.x_assoc, rhos=self.rhos, source=self.source)
                 if near.stalled_below(x, record.best):
-                    st, x = alternate(x, rhos=RHO_HIGH, source="continuation")
+                    st, x = alternate(x, rhos=RHO_HIGH, source=self.source)
                     best = least(best, st)
                     if near.stalled_below(x, record.best):
-                        best = least(best, near.certify(x, "continuation-near"))
+                        best = least(best, near.certify(x, f"{self.source}-near"))
                 return best
             return None
         finally:
-            record.phase("continuation", t)
+            record.phase(self.name, t)
+
+
+@dataclass(frozen=True)
+class SlowContinuation(Continuation):
+    """The continuation on a slow ladder (RHO_SLOW: rho doubled from 1): the penalty
+    method's counterpart of Ferris & Tin-Loi's relaxation xi^T slack <= rho driven to zero
+    step by step. Where the statics must cross to another mechanism, the quick ladders jump
+    past the states the slow one follows (docs/method/evidence.md, "The slow continuation")."""
+
+    rhos: tuple = RHO_SLOW
+    name = "slow continuation"
+    source = "slow-continuation"

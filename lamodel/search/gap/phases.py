@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from ..highs import INF
-from ..tuning import PUBLISHED_SHARE
+from ..tuning import PUBLISHED_SHARE, SLOW_SHARE
 from .lanes import Start
 
 
@@ -71,10 +71,29 @@ def published(engine, x_assoc, lane, workers=1):
     (:meth:`.lanes.Lanes.beside`): its states, LP solves and work merged into the search's.
     Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far,
     within the formulation's work bound (the default run's whole-search bound)."""
+    work = engine.budget.work()
+    return last_lane(engine, x_assoc, lane, min(work * (1.0 + PUBLISHED_SHARE), engine.problem.work_bound()),
+                     workers, "published methods")
+
+
+def slow(engine, x_assoc, lane, workers=1):
+    """The slow continuation's ``lane`` after the published methods, as they are run, on a
+    share of its own beyond the whole-search bound (which the published methods may have
+    spent), so that what ran before it is as without it: SLOW_SHARE times the search's LP
+    work so far, at most SLOW_SHARE times that bound, in whole units of LP work (none: no LP)."""
+    work = engine.budget.work()
+    return last_lane(engine, x_assoc, lane, work + int(SLOW_SHARE * min(work, engine.problem.work_bound())), workers,
+                     "slow continuation")
+
+
+def last_lane(engine, x_assoc, lane, bound, workers, phase):
+    """``lane`` from the associative statics after the rest of the search, a pure evaluation
+    whose states, LP solves and work are merged into the search's; without a time limit
+    bounded by the LP work ``bound``. Returns its least certified state (or None)."""
     budget = engine.budget
     if budget.rule is not None:
-        budget.bound(None, min(budget.work() * (1.0 + PUBLISHED_SHARE), engine.problem.work_bound()))
-    return engine.lanes.beside([lane], Start(x_assoc), workers, phase="published methods")[0]
+        budget.bound(None, bound)
+    return engine.lanes.beside([lane], Start(x_assoc), workers, phase=phase)[0]
 
 
 def continuations(engine, x_assoc, lanes, workers=1):
