@@ -1,17 +1,21 @@
 #!/usr/bin/env python3
 """The joints' strengths in space (the point-contact model): convergence and cost.
 
-    python benchmarks/materials3d.py
+    python benchmarks/materials3d.py                      # both tables
+    python benchmarks/materials3d.py --cases bond32-oop   # the second table on cases of solve3d.py
 
 1. A 2 x 1 x 4 box on the ground (unit weight: W = 8), f_c = 16, mu = 5, its base's
    points the vertices or a ``grid:n``: alpha against the planar stress block's
    (B/2 - W / (2 f_c b)) / (H/2) = 0.375, and the points' count and time.
 2. Structures in space (a running-bond wall panel, a barrel vault, a dome, the facade
    instance): dry, f_c = 10^9 (every cap far: the capped programs) and two finite f_c
-   (multiples of the weight over the supports' interface area), alpha and time with the
-   defaults. A measurement, not a test: the tests assert the values
-   (tests/materials/test_joints3d.py).
+   (multiples of the weight over the supports' interface area), and cohesion
+   c0 = 0.1 sigma: alpha, time, the first certificate's time, cone programs and LPs with
+   the defaults. ``--cases``: the cases of ``benchmarks/solve3d.py`` instead (``bond32-oop``:
+   the 816-block running-bond wall loaded out of plane). A measurement, not a test: the
+   tests assert the values (tests/materials/test_joints3d.py).
 """
+import argparse
 import sys
 import time
 from dataclasses import replace
@@ -64,28 +68,51 @@ def structures():
     yield read(ROOT / "instances" / "facade.json")
 
 
-def structure_table():
+def joints(s, sigma):
+    """(label, fc, cohesion) of the variants of one structure: dry first."""
+    yield "dry", None, None
+    yield "fc 1e9", 1e9, None
+    yield "fc 20 sigma", 20 * sigma, None
+    yield "fc 5 sigma", 5 * sigma, None
+    yield "c0 0.1 sigma", None, 0.1 * sigma
+
+
+def structure_table(structures):
     rows = []
-    for s in structures():
+    for s in structures:
         sigma = reference_stress(s)
         dry_time = None
-        for label, fc in (("dry", None), ("fc 1e9", 1e9), ("fc 20 sigma", 20 * sigma), ("fc 5 sigma", 5 * sigma)):
-            v = s if fc is None else replace(s, fc=np.full(s.n_points, fc), area=s.areas())
+        for label, fc, c0 in joints(s, sigma):
+            v = s
+            if fc is not None:
+                v = replace(v, fc=np.full(s.n_points, fc), area=s.areas())
+            if c0 is not None:
+                v = replace(v, cohesion=np.full(s.n_points, c0), area=s.areas())
             t = time.perf_counter()
             r = solve3d(v)
             sec = time.perf_counter() - t
             dry_time = dry_time or sec
             rows.append({"structure": s.name, "blocks": s.n_blocks, "points": s.n_points, "joints": label,
-                         "fc": np.nan if fc is None else round(fc, 4), "alpha": r.alpha, "status": r.status,
-                         "seconds": round(sec, 2), "x dry": round(sec / dry_time, 1)})
+                         "fc": np.nan if fc is None else round(fc, 4), "c0": np.nan if c0 is None else round(c0, 4),
+                         "alpha": r.alpha, "status": r.status, "first s": round(r.first_time, 2),
+                         "seconds": round(sec, 2), "cones": r.n_cone, "LPs": r.n_lp,
+                         "x dry": round(sec / dry_time, 1)})
             print(pd.DataFrame(rows[-1:]).to_string(index=False, header=len(rows) == 1), flush=True)
     return pd.DataFrame(rows)
 
 
-def main():
-    print(grid_table().to_string(index=False), flush=True)
-    print()
-    table = structure_table()
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", help="cases of benchmarks/solve3d.py (comma-separated) instead of the defaults")
+    a = ap.parse_args(argv)
+    if a.cases:
+        sys.path.insert(0, str(ROOT / "benchmarks"))
+        from solve3d import build
+        table = structure_table(build(case)[0] for case in a.cases.split(","))
+    else:
+        print(grid_table().to_string(index=False), flush=True)
+        print()
+        table = structure_table(structures())
     print()
     print(table.to_string(index=False))
 

@@ -219,4 +219,5 @@ def _draw(paths: dict, s, result):
     if "view" in paths:
         from .view3d import write_view3d
         write_view3d(s, paths["view"], motions=result.motions, modes=result.modes,
+                     normal=None if result.state is None else result.state.N,
                      title=f"{s.name}: alpha = {result.alpha:.6f}" if result.state is not None else s.name)

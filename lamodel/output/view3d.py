@@ -3,9 +3,11 @@
 
 The reader turns and zooms the structure; the blocks at rest are faint, the moving blocks
 drawn displaced and coloured by macro-block (blocks moving together); a slider sets the
-amplification (0 = at rest). Contact points whose mode is opening, sliding or crushing (a
-point at its cap f_c A, closing: :func:`lamodel.search.certify3d.point_modes`) are marked,
-crushing ones by diamonds; live loads are arrows from the block centroids.
+amplification (0 = at rest). Contact points whose mode is opening or sliding are marked;
+with the joints' strengths, the points whose normal force sits on its crushing cap
+(``N = -f_c A``) or on its tensile cap (``N = f_t A``, where f_t > 0) are marked by their
+own diamonds (only points that can crush or take tension: a dry point never is); live
+loads are arrows from the block centroids.
 """
 from __future__ import annotations
 
@@ -13,13 +15,29 @@ from pathlib import Path
 
 import numpy as np
 
+from ..search.tuning import RESIDUAL_TOLERANCE
 from ..structure3d import Structure3D
 from .motion3d import check_motions, default_amplification, displaced, macro_blocks
 
 _PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"]
-_MODE_COLOURS = {"open": "#d62728", "opening": "#d62728", "slide": "#1f5fbf", "sliding": "#1f5fbf",
-                 "crushing": "#7f2704", "crushing+sliding": "#e6550d"}
+_MODE_COLOURS = {"open": "#d62728", "opening": "#d62728", "slide": "#1f5fbf", "sliding": "#1f5fbf"}
+_CAP_MARKS = (("crushing", "#6e2c00", "at the crushing cap (N = -fc A)"),
+              ("tension", "#e67e22", "at the tensile cap (N = ft A)"))
 STEPS = (0.0, 0.25, 0.5, 1.0, 1.5, 2.0)
+
+
+def points_on_caps(s: Structure3D, N) -> dict:
+    """The points whose normal force ``N`` (np,) sits on a cap, {"crushing": mask, "tension":
+    mask}: within the certified state's accuracy (RESIDUAL_TOLERANCE of the largest force)
+    of ``-f_c A`` where f_c is finite, of ``f_t A`` where f_t > 0."""
+    N = np.asarray(N, dtype=float)
+    none = np.zeros(s.n_points, dtype=bool)
+    if not s.has_materials or not np.isfinite(N).all():
+        return {"crushing": none, "tension": none}
+    crush, pull, _ = s.caps()
+    slack = RESIDUAL_TOLERANCE * max(np.abs(N).max(), 1e-300)
+    return {"crushing": np.isfinite(crush) & (N < 0) & (N <= crush + slack),
+            "tension": (s.ft > 0) & (N > 0) & (N >= pull - slack)}
 
 
 def _mesh(vertex_lists, face_lists):
@@ -42,9 +60,10 @@ def _mesh_trace(go, xyz, tri, colour, opacity, name):
 
 
 def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: float | None = None,
-                 title: str | None = None) -> str:
+                 title: str | None = None, normal=None) -> str:
     """Write the interactive view of ``s`` (and of the mechanism ``motions`` (nb, 6), with
-    contact-point ``modes`` (np,) such as "open", "slide") to the HTML file ``path``."""
+    contact-point ``modes`` (np,) such as "open", "slide", and the points' normal forces
+    ``normal`` (np,), < 0 in compression, whose caps are marked) to the HTML file ``path``."""
     import plotly.graph_objects as go
 
     u = check_motions(s, motions)
@@ -83,10 +102,19 @@ def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: 
             hit = modes == mode
             if hit.any():
                 p = s.point[hit]
-                crushed = mode.startswith("crushing")   # a zone, not a gap: drawn larger, as diamonds
                 traces.append(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers", name=f"{mode} contacts",
-                                           marker=dict(size=5 if crushed else 3, color=colour,
-                                                       symbol="diamond" if crushed else "circle")))
+                                           marker=dict(size=3, color=colour)))
+    if normal is not None:
+        on = points_on_caps(s, normal)
+        caps = dict(zip(("crushing", "tension"), s.caps()[:2]))
+        for kind, colour, label in _CAP_MARKS:
+            hit = on[kind]
+            if hit.any():
+                p = s.point[hit]
+                text = [f"N = {n:.6g}, cap {c:.6g}" for n, c in zip(np.asarray(normal, float)[hit], caps[kind][hit])]
+                traces.append(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers",
+                                           name=f"{label}: {int(hit.sum())} points", text=text, hoverinfo="text",
+                                           marker=dict(size=6, color=colour, symbol="diamond")))
     live = np.linalg.norm(s.live, axis=1)
     if live.max() > 0:   # arrows: a shaft from the centroid, a dot at the head (many: off, in the legend)
         shown = True if s.n_blocks <= 60 else "legendonly"

@@ -61,10 +61,12 @@ def residuals(form: Formulation3D, N, T1, T2, alpha, u, q) -> dict:
     }
 
 
-def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, crushing=None, facets=PYRAMID_FACETS):
+def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, crushing=None, facets=PYRAMID_FACETS,
+               deadline=None):
     """Least alpha with the points held (module doc), exact: columns ``(N, T1, T2, alpha)``.
     ``ref`` (np, 2): reference tangential forces (a pyramid edge along each). Returns the
-    statics (3 np + 1) or None."""
+    statics (3 np + 1) or None; ``deadline`` (a search's) stops it inside HiGHS (Stopped):
+    on thousands of points its cold solve takes minutes."""
     crush, tension, k = form.caps
     n = form.np
     mu = form.mu
@@ -99,7 +101,7 @@ def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, crush
     cost[-1] = 1.0
     lp = HighsLP(sp.vstack(rows).tocsr(), np.concatenate(lo), cost, c_lo, c_hi, name="certify3d-caps",
                  b_hi=np.concatenate(hi))
-    if lp.solve() != "optimal":
+    if lp.solve(deadline=deadline) != "optimal":
         return None
     x = lp.x()
     x[:n] = np.clip(x[:n], c_lo[:n], c_hi[:n])

@@ -18,6 +18,7 @@ only under its cone's apex: ``N <= c0 A / mu``, so the tension test gives it coh
 ``c0 >= mu f_t``.
 """
 import json
+from pathlib import Path
 from dataclasses import replace
 
 import numpy as np
@@ -30,6 +31,7 @@ from lamodel.cli import command
 from lamodel.errors import InputError
 from lamodel.geometry.tributary import point_areas
 from lamodel.io.json3d import structure3d_from_spec
+from lamodel.output.view3d import points_on_caps, write_view3d
 from lamodel.search.search3d import solve3d
 
 A, B, H, W = 2.0, 1.0, 4.0, 1.0
@@ -174,6 +176,31 @@ def test_contacts_csv_caps_and_the_oracle(tmp_path):
     assert any(v.startswith("cone") for v in violations(o))
 
 
+def test_the_3d_view_marks_the_points_on_their_caps(tmp_path):
+    """The box with a grid:4 base, fc = 16 (W = 8): the two front rows of points carry the
+    weight at their crushing caps and are marked, nothing else; the same box dry has no
+    mark; held by tension, the back edge's two points sit on their tensile caps."""
+    s = structure3d_from_spec(box_spec(fc=16.0, contact_points="grid:4"))
+    r = solve(s)
+    on = points_on_caps(s, r.state.N)
+    front = s.point[:, 0] > A / 4     # the rows at x = 0.75 and x = 1 (the rocking edge)
+    assert np.array_equal(on["crushing"], front) and not on["tension"].any()
+    assert np.allclose(r.state.N[front], -16.0 * s.areas()[front]) and r.state.N[front].sum() == pytest.approx(-A * B * H)
+    text = Path(write_view3d(s, tmp_path / "crush.html", motions=r.motions, normal=r.state.N)).read_text()
+    assert f"at the crushing cap (N = -fc A): {front.sum()} points" in text and "tensile cap" not in text
+    dry = structure3d_from_spec(box_spec(contact_points="grid:4"))
+    r = solve(dry)
+    assert not any(m.any() for m in points_on_caps(dry, r.state.N).values())
+    text = Path(write_view3d(dry, tmp_path / "dry.html", motions=r.motions, normal=r.state.N)).read_text()
+    assert "crushing cap" not in text and "tensile cap" not in text
+    held = strong(box_on_ground(A, B, H, mu=5.0), ft=0.1, cohesion=0.5)
+    r = solve(held)
+    on = points_on_caps(held, r.state.N)
+    assert np.array_equal(on["tension"], held.point[:, 0] < 0) and not on["crushing"].any()
+    text = Path(write_view3d(held, tmp_path / "held.html", motions=r.motions, normal=r.state.N)).read_text()
+    assert "at the tensile cap (N = ft A): 2 points" in text
+
+
 def test_tributary_areas():
     rect = np.array([[-1, -0.5, 0], [1, -0.5, 0], [1, 0.5, 0], [-1, 0.5, 0.0]])
     assert np.allclose(point_areas([rect], [0] * 4, rect), 0.5)
@@ -267,17 +294,3 @@ def test_a_tension_state_passes_the_oracle(tmp_path):
     assert opening.sum() == 2 and np.allclose(c["N"][opening], 0.1 * A * B / 4)
     assert violations(o) == []
 
-
-def test_the_view_marks_the_crushed_points(tmp_path):
-    """--view of a box pushed over with crushing: the points at their cap are drawn as a
-    'crushing contacts' trace of diamonds; the dry box's view has none."""
-    f = tmp_path / "box.json"
-    f.write_text(json.dumps(box_spec()))
-    pages = {}
-    for name, extra in (("crushing", ["--fc", "6"]), ("dry", [])):
-        view = tmp_path / f"{name}.html"
-        assert command("solve", [str(f), "--out", str(tmp_path / name), "--no-plot", "--quiet",
-                                 "--view", str(view), *extra]) == 0
-        pages[name] = view.read_text()
-    assert '"name":"crushing contacts"' in pages["crushing"] and '"symbol":"diamond"' in pages["crushing"]
-    assert "crushing contacts" not in pages["dry"]
