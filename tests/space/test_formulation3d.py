@@ -55,10 +55,12 @@ def test_residual_test_rejects_a_twisted_or_non_collapse_state():
     st = r.state
     f = Formulation3D.of(s)
     assert passes(residuals(f, st.N, st.T1, st.T2, st.alpha, st.u, st.q))
-    # the friction force of one sliding point turned away from its slip (still on the cone)
+    # the friction force of one sliding point (the one carrying most: the statics' vertex may
+    # leave some points without force) turned away from its slip (still on the cone)
     c, si = np.cos(0.01), np.sin(0.01)
     T1, T2 = st.T1.copy(), st.T2.copy()
-    T1[0], T2[0] = c * st.T1[0] - si * st.T2[0], si * st.T1[0] + c * st.T2[0]
+    k = int(np.argmax(np.hypot(st.T1, st.T2)))
+    T1[k], T2[k] = c * st.T1[k] - si * st.T2[k], si * st.T1[k] + c * st.T2[k]
     res = residuals(f, st.N, T1, T2, st.alpha, st.u, st.q)
     assert res["slip_alignment"] > 1e-5 and not passes(res)
     # a lower alpha with the same forces: equilibrium and alpha = alpha_K fail
