@@ -19,6 +19,7 @@ import pandas as pd
 from .errors import InputError
 from .output.rows import outcome_row
 from .search.driver import SolveOptions, solve
+from .search.state import CERTIFIED, INTERRUPTED, NOT_CERTIFIED
 from .structure import Structure
 
 #: Reference data shipped with the package (the seed's Table 1).
@@ -67,10 +68,17 @@ VARIANT_COLUMNS = ("alpha_c", "alpha_associative", "certified", "n_sliding", "n_
                    "governing")
 
 
-def _variant_study(key, labels, variants, options, progress):
+def _variant_study(key, labels, variants, options, progress, same_blocks=False):
     """Solve every variant; a table (one row each, the least certified alpha marked
     ``governing``) and the outcomes by label. A stop signal (Ctrl-C, SIGTERM, SIGHUP)
-    ends the study: the variants after the one it stopped have status ``not run``."""
+    ends the study: the variants after the one it stopped have status ``not run``.
+
+    ``same_blocks``: the variants differ only in their live loads (load cases, positions
+    of a rolling load). A variant the search left uncertified is then solved again with
+    the certified variants' mechanisms as its first candidates (the nearest in the list
+    first): a mechanism of the same blocks is compatible under any load, and where a
+    statics holds its rows it is a collapse state of that variant
+    (:func:`lamodel.search.gap.phases.given_mechanisms`)."""
     rows, outcomes = [], {}
     for label, structure in zip(labels, variants):
         if rows and rows[-1]["status"] == "interrupted":
@@ -83,12 +91,35 @@ def _variant_study(key, labels, variants, options, progress):
         rows.append(row)
         if progress is not None:
             progress(row)
+    if same_blocks and not any(r["status"] == "interrupted" for r in rows):
+        _from_the_others(key, labels, variants, options, progress, rows, outcomes)
     df = pd.DataFrame(rows)
     alpha = df["alpha_c"].where(df["certified"].astype(bool))
     df["governing"] = False
     if alpha.notna().any():
         df.loc[alpha.idxmin(), "governing"] = True
     return df, outcomes
+
+
+def _from_the_others(key, labels, variants, options, progress, rows, outcomes):
+    """The second pass of :func:`_variant_study` (``same_blocks``): each uncertified
+    variant solved again from the certified variants' mechanisms, nearest first."""
+    certified = [i for i, label in enumerate(labels) if outcomes[label].status == CERTIFIED]
+    for i, (label, structure) in enumerate(zip(labels, variants)):
+        if outcomes[label].status != NOT_CERTIFIED or not certified:
+            continue
+        nearest = sorted(certified, key=lambda j: (abs(j - i), j))
+        before = rows[i]["seconds"]  # the first pass's: the row counts both
+        outcome = solve(structure, options or SolveOptions(), mechanisms=[outcomes[labels[j]].best for j in nearest])
+        if outcome.status == INTERRUPTED:
+            break
+        if outcome.status != CERTIFIED:
+            continue
+        outcomes[label] = outcome
+        rows[i] = {key: label, **outcome_row(outcome)}
+        rows[i]["seconds"] += before
+        if progress is not None:
+            progress(rows[i])
 
 
 def governing(df: pd.DataFrame, key: str):
@@ -104,7 +135,8 @@ def load_case_study(structure: Structure, options: SolveOptions | None = None, p
     names = list(structure.cases)
     if not names:
         raise InputError(f"structure '{structure.name}': no load cases; expected live point loads with a 'case'")
-    df, outcomes = _variant_study("case", names, [case_structure(structure, n) for n in names], options, progress)
+    df, outcomes = _variant_study("case", names, [case_structure(structure, n) for n in names], options, progress,
+                                  same_blocks=True)
     return df[["case", *VARIANT_COLUMNS]], outcomes
 
 
@@ -120,7 +152,7 @@ def rolling_study(structure: Structure, options: SolveOptions | None = None, pos
         raise InputError(f"structure '{structure.name}': no position for the rolling load on the top of the "
                          "structure; expected 'positions' in the 'rolling_load'")
     variants = [rolling_structure(structure, x) for x in positions]
-    df, outcomes = _variant_study("position", positions, variants, options, progress)
+    df, outcomes = _variant_study("position", positions, variants, options, progress, same_blocks=True)
     df.insert(1, "blocks", [" ".join(dict.fromkeys(p.block for p in v.point_loads if p.case == "rolling"))
                             for v in variants])
     return df[["position", "blocks", *VARIANT_COLUMNS]], outcomes

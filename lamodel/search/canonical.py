@@ -152,6 +152,18 @@ def to_user(state, order: Order | None):
     return out
 
 
+def mechanism_from_user(u, xi, order: Order | None):
+    """A mechanism (u per block, xi per yield row, rows stacked by kind) in the user's order
+    of blocks and contacts, in the canonical order (the inverse of :func:`to_user`)."""
+    u, xi = np.asarray(u, float), np.asarray(xi, float)
+    if order is None:
+        return u.copy(), xi.copy()
+    bo, co = order.blocks, order.contacts
+    u_c = u.reshape(len(bo), -1)[bo].reshape(-1)
+    xi_c = xi.reshape(-1, len(co))[:, co].reshape(-1)
+    return u_c, xi_c
+
+
 def rows_to_user(rows, order: Order | None):
     """Indices of the search's rows (stacked by kind, contact after contact within each:
     4 a contact in the plane, 2 a contact point in space) of the canonical structure, in

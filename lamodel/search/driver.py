@@ -48,7 +48,7 @@ from ..structure import Structure
 from ..structure3d import Structure3D
 from . import ipopt as _ipopt  # its task looked up at submit time (tests replace it)
 from .budget import Budget
-from .canonical import canonical, rows_to_user, to_user
+from .canonical import canonical, mechanism_from_user, rows_to_user, to_user
 from .ipopt import start_pool
 from .options import SolveOptions, Stopped
 from .plan import phase, run as run_plan
@@ -70,7 +70,7 @@ def ipopt_seconds(n_blocks: int) -> float:
 
 
 def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None,
-          on_associative=None) -> Outcome:
+          on_associative=None, mechanisms=()) -> Outcome:
     """Find the least certified collapse multiplier of the structure (see module doc), planar
     or in space: the same steps on the formulation of :func:`.gap.formulation_of` (in
     space: cone programs, no Ipopt polish).
@@ -79,7 +79,10 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     by another thread), as Ctrl-C does: the best certified state so far is reported, with
     the status ``interrupted``. ``on_associative(alpha)``: called with the associative
     multiplier as soon as it is known (finite; e.g. to start the lower bound beside the
-    search, :mod:`lamodel.bound.beside`).
+    search, :mod:`lamodel.bound.beside`). ``mechanisms``: certified collapse states (the
+    user's units and order) of the same blocks and contacts under other loads, e.g. a
+    study's other load positions (planar): their mechanisms are certified here first
+    (:func:`.gap.phases.given_mechanisms`).
     """
     from .gap import GapSearch
 
@@ -125,7 +128,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
         t_search = time.perf_counter()
         # the GA's Dask tasks share the Ipopt starts' connection when there is one
         what, alpha_assoc, lps_first = run_plan(engine, opt, progress, getattr(pool, "client", None), on_associative,
-                                                stall_work=STALL_WORK, workers=workers)
+                                                stall_work=STALL_WORK, workers=workers,
+                                                given=_given(engine.problem, mechanisms, order))
         search_budget.end()
         status, message = _verdict(engine, what, alpha_assoc)
         runs.append(Run(0, "ga+lp", np.nan, _run_status(engine, status, budget),
@@ -182,6 +186,19 @@ def path_of(state) -> str:
         return ""
     word = state.source.replace("-", "+").split("+")[0]
     return PATHS.get(word, word)
+
+
+def _given(problem, states, order):
+    """The mechanisms of ``states`` (user units and order) in the search's units and order,
+    those the live load does work on (planar formulations; none in space)."""
+    if not hasattr(problem, "mechanism_from_user"):
+        return []
+    out = []
+    for st in states:
+        u, xi = problem.mechanism_from_user(*mechanism_from_user(st.u, st.xi, order))
+        if u is not None:
+            out.append((u, xi))
+    return out
 
 
 def _verdict(engine, what, alpha_assoc):

@@ -2,7 +2,8 @@
 runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
-2. **first certificate** — the gap alternation from there; if it stalls, lane
+2. **first certificate** — where given, the mechanisms of the same blocks under other loads
+   (a study's other load positions); else the gap alternation from there; if it stalls, lane
    [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
@@ -56,9 +57,9 @@ PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
 SLOW = Lane((SlowContinuation(),))
 
 
-def first_certificate(engine, x_assoc, workers=1):
+def first_certificate(engine, x_assoc, workers=1, given=()):
     """Phase 2 (:func:`.gap.phases.first_certificate`) with the lanes above."""
-    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers)
+    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers, given)
 
 
 def continuations(engine, x_assoc, workers=1):
@@ -66,10 +67,11 @@ def continuations(engine, x_assoc, workers=1):
     return phases.continuations(engine, x_assoc, CONTINUATIONS, workers)
 
 
-def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1):
+def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1, given=()):
     """Phases 1-7 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
     :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the
-    lanes' threads (:mod:`.workers`). Returns (what, alpha_assoc, LP solves of the first
+    lanes' threads (:mod:`.workers`); ``given``: mechanisms (u, xi, scaled) of the same
+    blocks under other loads, tried before the alternation (:func:`.gap.phases.given_mechanisms`). Returns (what, alpha_assoc, LP solves of the first
     certificate): what is 'searched', 'stopped' (a stop or the time limit), 'unstable', or
     the associative LP's failure word."""
     alpha_assoc, lps_first = np.nan, 0
@@ -83,7 +85,7 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         progress.bound(alpha_assoc)
         log.info("associative bound %.6f (%d LP solves)", alpha_assoc, engine.n_lps())
         phase(progress, "first certificate")
-        first_certificate(engine, x0, workers)
+        first_certificate(engine, x0, workers, given)
         # (stability gives the statics LP back its basis near the collapse states: the GA's
         # evaluations, pure ones included, start from there, not from alpha = 0)
         if not stable(engine):

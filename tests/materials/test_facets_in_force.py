@@ -95,3 +95,23 @@ def test_a_dry_joint_among_crushing_ones_keeps_eq4s_rows():
         s_f = x[p.nl:p.nl + 3 * p.nc]
         assert slack.shape == (p.nr,)
         assert slack == pytest.approx(p.b - p.Y @ s_f, abs=1e-7 * max(1.0, np.abs(p.b).max()))
+
+
+def test_a_flow_is_small_against_the_blocks_motion_not_only_the_largest_flow():
+    """Two facets closing a short joint without turning it flow ~1/d times the closure (a
+    bridge's fill restraint: 224 where the blocks moved 1): a flow of 1e-7 elsewhere is
+    part of the mechanism (dropping it cost a virtual-work residual of 1.7e-6), one of
+    1e-12 of the motion is round-off."""
+    s = read_dat(INSTANCES / "wall33.dat")
+    s = dataclasses.replace(s, fc=np.full(s.n_contacts, 3.0))
+    p = StrengthProblem(s)
+    u = np.zeros(3 * p.nb)
+    u[0::3] = 1.0                                  # every block moves by 1 (non-dimensional)
+    xi = np.zeros(p.nr)
+    closing = 2 * p.nc + 5                         # a facet of contact 5
+    xi[closing] = 224.0 / p.form.structure.size()  # a rotation, 224 as the residual test measures it
+    xi[0], xi[1] = 1e-7, 1e-12                     # slides of contacts 0 and 1
+    kept = p._significant(xi.copy(), u)
+    assert kept[closing] > 0 and kept[0] == 1e-7 and kept[1] == 0.0
+    # measured against the largest flow alone (the generator form's rule) it is dropped
+    assert p._significant(xi.copy())[0] == 0.0

@@ -51,18 +51,42 @@ def stable(engine) -> bool:
         engine.record.phase("stability", t)
 
 
-def first_certificate(engine, x_assoc, here, there, workers=1):
+def first_certificate(engine, x_assoc, here, there, workers=1, given=()):
     """The gap alternation from the associative statics and, if it certifies nothing, lane
     ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
     Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`; the side
-    lanes stop at the time cap, not there)."""
+    lanes stop at the time cap, not there). ``given``: mechanisms (u, xi) of the same
+    blocks under other loads (:func:`given_mechanisms`), tried first: where one certifies,
+    the first certificate is its descended state."""
 
     def run():
+        if given_mechanisms(engine, given) is not None:
+            return
         _, x = engine.alternation.alternate(x_assoc, source="gap")
         if engine.record.best is None:
             engine.lanes.alongside(here, there, Start(x_assoc, x), workers)
 
     engine.budget.first(run, lambda: engine.record.best is not None)
+
+
+def given_mechanisms(engine, given):
+    """Each mechanism (u, xi) of ``given`` certified on this structure (its flow rows held,
+    min alpha: one statics each; a mechanism of another load of the same blocks is
+    compatible here, only its normalisation changes) and descended. Returns the least
+    certified state, or None."""
+    t = time.perf_counter()
+    best = None
+    try:
+        for u, xi in given:
+            st = engine.certifier.certify(u, xi, "given")
+            if st is not None:
+                st = engine.descent.descend(st)
+                if best is None or st.alpha < best.alpha:
+                    best = st
+    finally:
+        if given:
+            engine.record.phase("given mechanisms", t)
+    return best
 
 
 def published(engine, x_assoc, lane, workers=1):

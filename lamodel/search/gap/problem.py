@@ -406,6 +406,22 @@ class ScaledProblem:
         state.residual = state_residuals(self.form, state)
         return state
 
+    def mechanism_from_user(self, u, xi):
+        """A mechanism in the user's units (the inverse of :meth:`to_user`'s), normalised
+        by this structure's live load (``fbar^T u = 1``): another load's mechanism of the
+        same blocks and contacts, to certify here. (None, None) if the live load does no
+        positive work on it."""
+        F, L, nc = self.F, self.L, self.nc
+        u = np.array(u, float) * (F * L)
+        u[0::3] /= L
+        u[1::3] /= L
+        xi = np.array(xi, float) * (F * L)
+        xi[:2 * nc] /= L
+        fu = float(self.fbar @ u)
+        if not fu > 0:
+            return None, None
+        return u / fu, xi / fu
+
     def to_user(self, st: CollapseState) -> CollapseState:
         """A scaled state in the user's units (re-checked there)."""
         F, L, nc = self.F, self.L, self.nc

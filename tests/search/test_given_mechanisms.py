@@ -1,0 +1,90 @@
+"""Mechanisms of the same blocks under other loads (a study's other load cases or positions):
+certified first where a statics holds their rows, else the search goes on as without them;
+a study solves again, from the certified variants' mechanisms, a variant it left uncertified."""
+import dataclasses
+
+import numpy as np
+import pytest
+
+from oracle import check_state
+
+import lamodel.studies as studies
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.loads import case_structure
+from lamodel.search.canonical import canonical, mechanism_from_user, to_user
+from lamodel.search.driver import SolveOptions, solve
+from lamodel.search.state import CERTIFIED, NOT_CERTIFIED
+
+LP_ONLY = SolveOptions(starts=0, progress=False)
+
+
+def rect(x0, y0, x1, y1):
+    return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+
+
+def stack(shuffled=False):
+    """Two blocks on the ground (weights 1), a dead load of 0.5 on the top; three live
+    loads (cases) along +x: at the top, at mid-height of the top block, at the lower one."""
+    blocks = [{"id": "ground", "vertices": rect(-2, -1, 3, 0), "support": True},
+              {"id": "b1", "vertices": rect(0, 0, 1, 1)}, {"id": "b2", "vertices": rect(0, 1, 1, 2)}]
+    if shuffled:
+        blocks = blocks[::-1]
+    return structure_from_json({
+        "name": "stack", "mu": 0.6, "blocks": blocks,
+        "loads": [{"block": "b2", "at": [0, 2], "force": [1, 0], "case": "top"},
+                  {"block": "b2", "at": [0, 1.5], "force": [1, 0], "case": "mid"},
+                  {"block": "b1", "at": [0, 0.5], "force": [1, 0], "case": "low"},
+                  {"block": "b2", "at": [0.5, 2], "force": [0, -0.5], "kind": "dead"}]})
+
+
+def first_source(outcome):
+    return outcome.history[0][2]
+
+
+@pytest.mark.parametrize("shuffled", [False, True])
+def test_the_overturning_of_one_load_certifies_another_load_at_once(shuffled):
+    s = stack(shuffled)
+    top = solve(case_structure(s, "top"), LP_ONLY)
+    assert top.best.alpha == pytest.approx(1.25 / 2, rel=1e-9)   # 2 alpha = 0.5 + 0.5 + 0.25 about the toe
+    mid = solve(case_structure(s, "mid"), LP_ONLY, mechanisms=[top.best])
+    # the same mechanism (the stack about its toe) under the load 0.5 lower: 1.5 alpha = 1.25
+    assert mid.best.alpha == pytest.approx(1.25 / 1.5, rel=1e-9)
+    assert first_source(mid).startswith("given")
+    assert mid.lps_first < solve(case_structure(s, "mid"), LP_ONLY).lps_first
+    check_state(mid.structure, mid.best)
+
+
+def test_a_mechanism_no_statics_holds_leaves_the_search_as_without_it():
+    s = stack()
+    top = solve(case_structure(s, "top"), LP_ONLY)
+    alone = solve(case_structure(s, "low"), LP_ONLY)
+    given = solve(case_structure(s, "low"), LP_ONLY, mechanisms=[top.best])
+    # the stack overturning under a load at 0.5 needs alpha 2.5, beyond b1's friction (1.5)
+    assert given.best.alpha == pytest.approx(alone.best.alpha, rel=1e-9) == pytest.approx(1.5, rel=1e-9)
+    assert not first_source(given).startswith("given")
+
+
+def test_a_mechanism_goes_to_the_canonical_order_and_back():
+    s, order = canonical(stack(shuffled=True))
+    assert order is not None
+    o = solve(case_structure(stack(shuffled=True), "top"), LP_ONLY)
+    u, xi = mechanism_from_user(o.best.u, o.best.xi, order)
+    back = to_user(dataclasses.replace(o.best, u=u, xi=xi), order)
+    assert np.array_equal(back.u, o.best.u) and np.array_equal(back.xi, o.best.xi)
+
+
+def test_a_study_solves_an_uncertified_variant_again_from_the_others(monkeypatch):
+    real, calls = studies.solve, []
+
+    def solve_failing_once(structure, options=None, mechanisms=()):
+        calls.append((structure.name, len(mechanisms)))
+        out = real(structure, options, mechanisms=mechanisms)
+        if len(calls) == 1:  # the first variant, first pass: as if the search had stalled
+            return dataclasses.replace(out, status=NOT_CERTIFIED, best=None)
+        return out
+
+    monkeypatch.setattr(studies, "solve", solve_failing_once)
+    df, outcomes = studies.load_case_study(stack(), LP_ONLY)
+    assert [n for _, n in calls] == [0, 0, 0, 2]          # the second pass: the two certified variants' mechanisms
+    assert df["certified"].all() and outcomes["top"].status == CERTIFIED
+    assert df.set_index("case").loc["top", "alpha_c"] == pytest.approx(0.625, rel=1e-9)
