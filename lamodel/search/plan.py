@@ -2,7 +2,10 @@
 runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
-2. **first certificate** — the gap alternation from there; if it stalls, lane
+2. **first certificate** — where every joint only crushes (no cohesion, no tensile
+   strength), first the **dry certificate** (:mod:`.gap.dry`: the dry alternation's
+   state, if within the caps, certified with them); then, if nothing is certified, the
+   gap alternation from there; if it stalls, lane
    [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
@@ -30,6 +33,7 @@ import numpy as np
 from .gap.chains import FixedPoint, FromZero
 from .gap.continuation import Continuation, SlowContinuation
 from .gap.dilatancy import Dilatancy
+from .gap.dry import DryCertificate
 from .gap.lanes import Lane
 from .gap import phases
 from .gap.phases import associative, stable
@@ -43,6 +47,8 @@ from .tuning import RHO_CONTS
 
 log = logging.getLogger(__name__)
 
+#: Before the gap alternation, where every joint only crushes: the dry certificate.
+BEFORE_ALTERNATION = (DryCertificate(),)
 #: Where the gap alternation stalls: here (the search's engine), then beside it. The chain
 #: from zero cohesion before the rescue: at a partial optimum the rescue's ladders stay there
 #: (docs/method/evidence.md, "The lanes where the first certificate stalls").
@@ -58,7 +64,7 @@ SLOW = Lane((SlowContinuation(),))
 
 def first_certificate(engine, x_assoc, workers=1):
     """Phase 2 (:func:`.gap.phases.first_certificate`) with the lanes above."""
-    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers)
+    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers, before=BEFORE_ALTERNATION)
 
 
 def continuations(engine, x_assoc, workers=1):

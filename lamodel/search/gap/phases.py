@@ -51,13 +51,19 @@ def stable(engine) -> bool:
         engine.record.phase("stability", t)
 
 
-def first_certificate(engine, x_assoc, here, there, workers=1):
-    """The gap alternation from the associative statics and, if it certifies nothing, lane
-    ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
-    Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`; the side
-    lanes stop at the time cap, not there)."""
+def first_certificate(engine, x_assoc, here, there, workers=1, before=()):
+    """The steps ``before`` (strategies, in turn, until one certifies), then, if nothing is
+    certified, the gap alternation from the associative statics and, if it certifies
+    nothing, lane ``here`` on this engine beside the ``there`` lanes
+    (:meth:`.lanes.Lanes.alongside`). Within the budget's first bound
+    (:meth:`~lamodel.search.budget.Budget.first`; the side lanes stop at the time cap, not there)."""
 
     def run():
+        for step in before:
+            if engine.record.best is None:
+                step.run(engine, Start(x_assoc))
+        if engine.record.best is not None:
+            return
         _, x = engine.alternation.alternate(x_assoc, source="gap")
         if engine.record.best is None:
             engine.lanes.alongside(here, there, Start(x_assoc, x), workers)
