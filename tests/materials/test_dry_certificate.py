@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 from builders3d import box_on_ground
-from conftest import INSTANCES, rect
+from conftest import INSTANCES
 from oracle import check_state
+from test_joints import B, H, block
 from lamodel.formulation.joints import relative_error_bound
 from lamodel.formulation.space import Formulation3D
 from lamodel.io.datfile import read_dat
-from lamodel.io.jsonspec import structure_from_json
 from lamodel.search.certify3d import passes, residuals
 from lamodel.search.driver import SolveOptions, path_of, solve
 from lamodel.search.gap.dry import crushing_only, within_caps
@@ -27,16 +27,9 @@ from lamodel.search.gap.strengths import StrengthProblem
 from lamodel.search.search3d import solve3d
 from lamodel.search.tuning import CRUSHING_FACETS, CRUSHING_FAN_RATIO, CRUSHING_FLOOR
 
-B, H, W = 2.0, 3.0, 6.0     # the planar block: unit weight, thickness 1
+W = 6.0                     # the planar block's weight (test_joints.block: 2 x 3, unit weight)
 A3, B3, H3 = 2.0, 1.0, 4.0  # the box in space: weight 1
 EPS = relative_error_bound(CRUSHING_FACETS)
-
-
-def block(**strengths):
-    s = structure_from_json({"name": "block", "mu": 5.0, "blocks": [
-        {"id": "a", "vertices": rect(0, 0, B, H)},
-        {"id": "ground", "support": True, "vertices": rect(-1, -1, 3, 0)}]})
-    return dataclasses.replace(s, **{k: np.full(s.n_contacts, float(v)) for k, v in strengths.items()})
 
 
 def box(**strengths):
