@@ -15,7 +15,8 @@ and the step does not run.
 The step runs the dry search's gap alternation (eq. 4's LPs in the plane, the dry cone
 programs in space: cheaper than the capped ones, and its gap closes where the capped one
 may not) on an engine of its own, under the search's time cap and the dry search's own
-first-certificate bound, its work merged into the search's. Its least certified state,
+first-certificate bound, until it certifies a state (the descent and the rest of its rho
+ladder are the capped search's to do), its work merged into the search's. That state,
 if its forces are within the caps (:func:`within_caps`, to DRY_WITHIN_CAPS), gives the
 cohesions of one capped fictitious program; that mechanism is certified and descended in
 the capped model as any other (path ``dry certificate``), and the search goes on from
@@ -30,6 +31,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..budget import Budget
+from ..options import Deadline, Stopped
 from ..tuning import DRY_WITHIN_CAPS
 
 log = logging.getLogger(__name__)
@@ -65,13 +67,18 @@ def dry_first(engine):
     t = time.perf_counter()
     p = engine.problem
     budget = engine.budget
-    dry = GapSearch(replace(p.user, fc=None, ft=None, cohesion=None),
-                    Budget(budget.cap, budget.rule, budget.seconds))
+    found = []  # the dry engine's record, once made: its first certified state ends its run
+    cap = Deadline(budget.cap.at, lambda: budget.cap.expired() or (bool(found) and found[0].best is not None))
+    dry = GapSearch(replace(p.user, fc=None, ft=None, cohesion=None), Budget(cap, budget.rule, budget.seconds))
+    found.append(dry.record)
     try:
         kind, _, x0 = associative(dry)
         if kind == "ok":
             dry.budget.first(lambda: dry.alternation.alternate(x0, source="dry"),
                              lambda: dry.record.best is not None)
+    except Stopped:
+        if budget.expired():  # the search's time cap or a stop, not the dry certificate found
+            raise
     finally:
         _merge(p, dry.problem)
     best = dry.record.best
