@@ -21,7 +21,7 @@ from lamodel.formulation.space import Formulation3D
 from lamodel.io.datfile import read_dat
 from lamodel.search.certify3d import passes, residuals
 from lamodel.search.driver import SolveOptions, path_of, solve
-from lamodel.search.gap.dry import crushing_only, within_caps
+from lamodel.search.gap.dry import DryCertificate, crushing_only, within_caps
 from lamodel.search.gap.problem import ScaledProblem
 from lamodel.search.gap.strengths import StrengthProblem
 from lamodel.search.search3d import solve3d
@@ -130,3 +130,16 @@ def test_binding_cap_in_space_goes_on_as_without_the_step(fc):
     assert r.alpha == pytest.approx((2 * fc * A3 * B3 / 2 - 1.0) * A3 / H3, abs=1e-7)
     assert not r.path.startswith("dry")
     assert np.allclose(r.state.N[box().point[:, 0] > 0], -fc * A3 * B3 / 4)
+
+
+def test_a_binding_cap_searches_as_without_the_step(monkeypatch):
+    """The arch at f_c = 20 (its dry hinges beyond the stress block): the step certifies
+    nothing, and the search after it (bounds moved by its work) ends where it ends without it."""
+    s = read_dat(INSTANCES / "arch.dat")
+    s = dataclasses.replace(s, fc=np.full(s.n_contacts, 20.0))
+    with_step = solved(s)
+    monkeypatch.setattr(DryCertificate, "applies", lambda self, engine: False)
+    without = solved(s)
+    assert path_of(with_step.best) != "dry certificate"
+    assert with_step.best.alpha == without.best.alpha and path_of(with_step.best) == path_of(without.best)
+    assert with_step.lps_first > without.lps_first   # the step's LP solves are counted

@@ -67,6 +67,7 @@ def dry_first(engine):
     t = time.perf_counter()
     p = engine.problem
     budget = engine.budget
+    lps0, work0 = p.n_lps(), p.work()
     found = []  # the dry engine's record, once made: its first certified state ends its run
     cap = Deadline(budget.cap.at, lambda: budget.cap.expired() or (bool(found) and found[0].best is not None))
     dry = GapSearch(replace(p.user, fc=None, ft=None, cohesion=None), Budget(cap, budget.rule, budget.seconds))
@@ -81,6 +82,8 @@ def dry_first(engine):
             raise
     finally:
         _merge(p, dry.problem)
+        if budget.first_bound is not None:  # the gap alternation after the step: the room it had without it
+            budget.first_bound += dry.problem.work()
     best = dry.record.best
     state = None
     if best is None:
@@ -93,10 +96,29 @@ def dry_first(engine):
                  status)
         if status == "optimal":
             state = engine.certifier.certify(u, xi, "dry")
-            if state is not None:
-                state = engine.descent.descend(state)
+        if state is not None:
+            state = engine.descent.descend(state)
+        else:
+            # within the caps to DRY_WITHIN_CAPS only (a dry hinge is on the joint's edge,
+            # beyond the polygon of the plane by CRUSHING_FLOOR of its moment): the capped
+            # statics holding that mechanism's rows moves by as much, and a held slide may
+            # not follow; the capped alternation from the dry statics closes that gap
+            state = engine.alternation.alternate(capped_statics(p, best), source="dry")[0]
+    if state is None:  # the rest of the search as without the step (its work still counted)
+        budget.aside = (p.n_lps() - lps0, p.work() - work0)
     engine.record.phase("dry certificate", t)
     return state
+
+
+def capped_statics(problem, state):
+    """The dry ``state``'s forces as a statics of the capped ``problem``'s columns (in the
+    plane a facet's slack column sigma >= 0, 0 where the state is beyond the facet; in space
+    the same columns): where the capped alternation starts from."""
+    if not hasattr(state, "M"):
+        return np.concatenate([state.N, state.T1, state.T2, [state.alpha]])
+    s_f = np.concatenate([state.N, state.V, state.M])
+    slack = (problem.b - problem.Y @ s_f)[problem.kept]
+    return np.concatenate([np.maximum(slack, 0.0) / problem.w_kept, s_f, [state.alpha]])
 
 
 def _merge(problem, dry_problem):
