@@ -2,10 +2,9 @@
 runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
-2. **first certificate** — where every joint only crushes (no cohesion, no tensile
-   strength), first the **dry certificate** (:mod:`.gap.dry`: the dry alternation's
-   state, if within the caps, certified with them); then, if nothing is certified, the
-   gap alternation from there; if it stalls, lane
+2. **first certificate** — where joints only crush, first the **dry certificate**
+   (:mod:`.gap.dry`: the dry alternation's state within the caps, certified with them);
+   if it certifies nothing, the gap alternation from there; if it stalls, lane
    [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
