@@ -13,7 +13,12 @@
    c0 = 0.1 sigma: alpha, time, the first certificate's time, cone programs and LPs with
    the defaults. ``--cases``: the cases of ``benchmarks/solve3d.py`` instead (``bond32-oop``:
    the 816-block running-bond wall loaded out of plane). A measurement, not a test: the
-   tests assert the values (tests/materials/test_joints3d.py).
+   tests assert the values (tests/materials/test_joints3d.py). ``--joints``: some of the
+   variants (dry, fc1e9, fc20, fc5, c0); ``--time-limit``: seconds a solve; ``x first``: the
+   time over the first variant's (the dry one's by default); ``path``: what certified the
+   state reported (``dry``: the dry certificate).
+
+    python benchmarks/materials3d.py --cases bond32-oop --joints dry --time-limit 90
 """
 import argparse
 import sys
@@ -68,35 +73,38 @@ def structures():
     yield read(ROOT / "instances" / "facade.json")
 
 
-def joints(s, sigma):
-    """(label, fc, cohesion) of the variants of one structure: dry first."""
-    yield "dry", None, None
-    yield "fc 1e9", 1e9, None
-    yield "fc 20 sigma", 20 * sigma, None
-    yield "fc 5 sigma", 5 * sigma, None
-    yield "c0 0.1 sigma", None, 0.1 * sigma
+#: The variants of a structure: key -> (label, fc and c0 as multiples of sigma; 1e9: f_c itself).
+JOINTS = {"dry": ("dry", None, None), "fc1e9": ("fc 1e9", 1e9, None), "fc20": ("fc 20 sigma", 20, None),
+          "fc5": ("fc 5 sigma", 5, None), "c0": ("c0 0.1 sigma", None, 0.1)}
 
 
-def structure_table(structures):
+def joints(s, sigma, keys=tuple(JOINTS)):
+    """(label, fc, cohesion) of the variants ``keys`` of one structure, in that order."""
+    for key in keys:
+        label, fc, c0 = JOINTS[key]
+        yield label, None if fc is None else (fc if fc == 1e9 else fc * sigma), None if c0 is None else c0 * sigma
+
+
+def structure_table(structures, keys=tuple(JOINTS), time_limit=None):
     rows = []
     for s in structures:
         sigma = reference_stress(s)
         dry_time = None
-        for label, fc, c0 in joints(s, sigma):
+        for label, fc, c0 in joints(s, sigma, keys):
             v = s
             if fc is not None:
                 v = replace(v, fc=np.full(s.n_points, fc), area=s.areas())
             if c0 is not None:
                 v = replace(v, cohesion=np.full(s.n_points, c0), area=s.areas())
             t = time.perf_counter()
-            r = solve3d(v)
+            r = solve3d(v, time_limit=time_limit)
             sec = time.perf_counter() - t
             dry_time = dry_time or sec
             rows.append({"structure": s.name, "blocks": s.n_blocks, "points": s.n_points, "joints": label,
                          "fc": np.nan if fc is None else round(fc, 4), "c0": np.nan if c0 is None else round(c0, 4),
                          "alpha": r.alpha, "status": r.status, "first s": round(r.first_time, 2),
                          "seconds": round(sec, 2), "cones": r.n_cone, "LPs": r.n_lp,
-                         "x dry": round(sec / dry_time, 1)})
+                         "x first": round(sec / dry_time, 1), "path": r.path.split("+")[0]})
             print(pd.DataFrame(rows[-1:]).to_string(index=False, header=len(rows) == 1), flush=True)
     return pd.DataFrame(rows)
 
@@ -104,15 +112,22 @@ def structure_table(structures):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", help="cases of benchmarks/solve3d.py (comma-separated) instead of the defaults")
+    ap.add_argument("--joints", default=",".join(JOINTS),
+                    help=f"the variants, comma-separated, of {', '.join(JOINTS)} (default: all, in that order)")
+    ap.add_argument("--time-limit", type=float, help="seconds a solve (default: none, the work bounds)")
     a = ap.parse_args(argv)
+    keys = tuple(a.joints.split(","))
+    bad = [k for k in keys if k not in JOINTS]
+    if bad:
+        ap.error(f"--joints: unknown variant {bad[0]!r}; expected some of {', '.join(JOINTS)}")
     if a.cases:
         sys.path.insert(0, str(ROOT / "benchmarks"))
         from solve3d import build
-        table = structure_table(build(case)[0] for case in a.cases.split(","))
+        table = structure_table((build(case)[0] for case in a.cases.split(",")), keys, a.time_limit)
     else:
         print(grid_table().to_string(index=False), flush=True)
         print()
-        table = structure_table(structures())
+        table = structure_table(structures(), keys, a.time_limit)
     print()
     print(table.to_string(index=False))
 

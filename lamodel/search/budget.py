@@ -74,6 +74,9 @@ class Budget:
         #: a side lane's bound by the main lane beside it (:class:`MainLane`; None: none), and
         #: this engine's work when the side lane began
         self.main_lane, self._side_from = None, 0.0
+        #: (LP solves, LP work) of a step set aside (the dry certificate that certified
+        #: nothing: :mod:`.gap.dry`): counted, the bounds of the rest moved by as much
+        self.aside = (0, 0.0)
         self.deadline = Charged(self)
 
     @classmethod
@@ -152,7 +155,8 @@ class Budget:
         """The first certificate took ``lps_first`` LP solves: the rule's bounds of the rest
         of the search set."""
         if self.rule is not None:
-            self.bound(self.rule.total * lps_first, self.problem.work_bound())
+            lps, work = self.aside
+            self.bound(self.rule.total * (lps_first - lps) + lps, self.problem.work_bound() + work)
 
     def bound(self, work_limit=None, work_bound=None):
         """Bounds of this engine's search from here (None: no bound)."""

@@ -2,8 +2,9 @@
 runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
-2. **first certificate** — where given, the mechanisms of the same blocks under other loads
-   (a study's other load positions); else the gap alternation from there; if it stalls, lane
+2. **first certificate** — given mechanisms (a study's other loads); where joints only crush,
+   the **dry certificate** (:mod:`.gap.dry`: the dry state within the caps, certified with
+   them); if none certifies, the gap alternation from there; if it stalls, lane
    [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
@@ -14,9 +15,8 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
    successive cone (in space)] from the associative statics, each raw answer certified and
    descended, its work counted and bounded (:func:`.gap.phases.published`);
-7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics,
-   bounded as the published methods (:func:`.gap.phases.slow`), so that all before it runs
-   as without it;
+7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics, bounded
+   as the published methods (:func:`.gap.phases.slow`): all before it runs as without it;
 8. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
@@ -31,6 +31,7 @@ import numpy as np
 from .gap.chains import FixedPoint, FromZero
 from .gap.continuation import Continuation, SlowContinuation
 from .gap.dilatancy import Dilatancy
+from .gap.dry import DryCertificate
 from .gap.lanes import Lane
 from .gap import phases
 from .gap.phases import associative, stable
@@ -44,6 +45,8 @@ from .tuning import RHO_CONTS
 
 log = logging.getLogger(__name__)
 
+#: Before the gap alternation, where every joint only crushes: the dry certificate.
+BEFORE_ALTERNATION = (DryCertificate(),)
 #: Where the gap alternation stalls: here (the search's engine), then beside it. The chain
 #: from zero cohesion before the rescue: at a partial optimum the rescue's ladders stay there
 #: (docs/method/evidence.md, "The lanes where the first certificate stalls").
@@ -59,7 +62,7 @@ SLOW = Lane((SlowContinuation(),))
 
 def first_certificate(engine, x_assoc, workers=1, given=()):
     """Phase 2 (:func:`.gap.phases.first_certificate`) with the lanes above."""
-    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers, given)
+    phases.first_certificate(engine, x_assoc, IF_STALLED, BESIDE_STALLED, workers, BEFORE_ALTERNATION, given)
 
 
 def continuations(engine, x_assoc, workers=1):

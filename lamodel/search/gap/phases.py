@@ -51,16 +51,20 @@ def stable(engine) -> bool:
         engine.record.phase("stability", t)
 
 
-def first_certificate(engine, x_assoc, here, there, workers=1, given=()):
-    """The gap alternation from the associative statics and, if it certifies nothing, lane
-    ``here`` on this engine beside the ``there`` lanes (:meth:`.lanes.Lanes.alongside`).
-    Within the budget's first bound (:meth:`~lamodel.search.budget.Budget.first`; the side
-    lanes stop at the time cap, not there). ``given``: mechanisms (u, xi) of the same
-    blocks under other loads (:func:`given_mechanisms`), tried first: where one certifies,
-    the first certificate is its descended state."""
+def first_certificate(engine, x_assoc, here, there, workers=1, before=(), given=()):
+    """``given``: mechanisms (u, xi) of the same blocks under other loads
+    (:func:`given_mechanisms`), then the steps ``before`` (strategies, in turn, until one
+    certifies), then, if nothing is certified, the gap alternation from the associative
+    statics and, if it certifies nothing, lane ``here`` on this engine beside the ``there``
+    lanes (:meth:`.lanes.Lanes.alongside`). Within the budget's first bound
+    (:meth:`~lamodel.search.budget.Budget.first`; the side lanes stop at the time cap, not there)."""
 
     def run():
-        if given_mechanisms(engine, given) is not None:
+        given_mechanisms(engine, given)
+        for step in before:
+            if engine.record.best is None:
+                step.run(engine, Start(x_assoc))
+        if engine.record.best is not None:
             return
         _, x = engine.alternation.alternate(x_assoc, source="gap")
         if engine.record.best is None:
