@@ -169,7 +169,7 @@ PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fal
          "zero": "chain from zero cohesion", "continuation": "continuation", "slow": "slow continuation",
          "dilatancy": "dilatancy continuation",
          "genome": "GA", "ipopt": "Ipopt polish", "single": "single block", "slp": "successive LP",
-         "scp": "successive cone"}
+         "scp": "successive cone", "mpec": "MPEC"}
 
 
 def path_of(state) -> str:

@@ -16,7 +16,10 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics,
    bounded as the published methods (:func:`.gap.phases.slow`), so that all before it runs
    as without it;
-8. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
+8. **MPEC** — Ferris & Tin-Loi's relaxed complementarity through Ipopt (in the plane, up to
+   MPEC_LANE_BLOCKS blocks), from the associative statics, its raw answer certified and
+   descended, on a share of its own as the slow continuation (:func:`.gap.phases.mpec`);
+9. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
 order written: the same answer with any number of workers (:mod:`.gap.lanes`).
@@ -37,6 +40,7 @@ from .gap.rescue import Rescue
 from .gap.single import SingleBlocks
 from .genetic import genetic_search
 from .options import Stopped
+from .published.mpec import MPEC
 from .published.successive_cone import SuccessiveCone
 from .published.successive_lp import SuccessiveLP
 from .tuning import RHO_CONTS
@@ -54,6 +58,8 @@ CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuat
 PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
 #: Last: the slow continuation, alone, so that every phase before it runs as without it.
 SLOW = Lane((SlowContinuation(),))
+#: After it: Ferris & Tin-Loi's MPEC, alone, on a share of its own.
+MPEC_LANE = Lane((MPEC(),))
 
 
 def first_certificate(engine, x_assoc, workers=1):
@@ -67,7 +73,7 @@ def continuations(engine, x_assoc, workers=1):
 
 
 def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1):
-    """Phases 1-7 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
+    """Phases 1-8 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
     :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the
     lanes' threads (:mod:`.workers`). Returns (what, alpha_assoc, LP solves of the first
     certificate): what is 'searched', 'stopped' (a stop or the time limit), 'unstable', or
@@ -104,6 +110,9 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies:
             phase(progress, "slow continuation")
             phases.slow(engine, x0, SLOW, workers)
+        if x0 is not None and np.isfinite(alpha_assoc) and MPEC_LANE.strategies:
+            phase(progress, "MPEC")
+            phases.mpec(engine, x0, MPEC_LANE, workers)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first

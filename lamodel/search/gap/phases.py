@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from ..highs import INF
-from ..tuning import PUBLISHED_SHARE, SLOW_SHARE
+from ..tuning import MPEC_SHARE, PUBLISHED_SHARE, SLOW_SHARE
 from .lanes import Start
 
 
@@ -84,6 +84,16 @@ def slow(engine, x_assoc, lane, workers=1):
     work = engine.budget.work()
     return last_lane(engine, x_assoc, lane, work + int(SLOW_SHARE * min(work, engine.problem.work_bound())), workers,
                      "slow continuation")
+
+
+def mpec(engine, x_assoc, lane, workers=1):
+    """The MPEC's ``lane`` last, on a share of its own as the slow continuation (its LP
+    work, the start's mechanism and the certification of its answer: MPEC_SHARE times the
+    search's so far, at most times the whole-search bound; its Ipopt iterations bounded by
+    the lane itself), so that all before it is as without it."""
+    work = engine.budget.work()
+    return last_lane(engine, x_assoc, lane, work + int(MPEC_SHARE * min(work, engine.problem.work_bound())), workers,
+                     "MPEC")
 
 
 def last_lane(engine, x_assoc, lane, bound, workers, phase):
