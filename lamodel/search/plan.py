@@ -16,9 +16,10 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics,
    bounded as the published methods (:func:`.gap.phases.slow`), so that all before it runs
    as without it;
-8. **MPEC** — Ferris & Tin-Loi's relaxed complementarity through Ipopt (in the plane, up to
-   MPEC_LANE_BLOCKS blocks), from the associative statics, its raw answer certified and
-   descended, on a share of its own as the slow continuation (:func:`.gap.phases.mpec`);
+8. **MPEC** — where the slow continuation certified below the rest of the search: Ferris &
+   Tin-Loi's relaxed complementarity through Ipopt (in the plane, up to MPEC_LANE_BLOCKS
+   blocks), from the associative statics, its raw answer certified and descended, on a
+   share of its own as the slow continuation (:func:`.gap.phases.mpec`);
 9. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
@@ -109,10 +110,13 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
             phases.published(engine, x0, PUBLISHED, workers)
         if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies:
             phase(progress, "slow continuation")
-            phases.slow(engine, x0, SLOW, workers)
-        if x0 is not None and np.isfinite(alpha_assoc) and MPEC_LANE.strategies:
-            phase(progress, "MPEC")
-            phases.mpec(engine, x0, MPEC_LANE, workers)
+            before = engine.record.best
+            by_slow = phases.slow(engine, x0, SLOW, workers)
+            # the MPEC only where its penalty counterpart went below the rest of the search:
+            # there the state lies on a slow relaxation path (docs/method/evidence.md)
+            if MPEC_LANE.strategies and by_slow is not None and (before is None or by_slow.alpha < before.alpha):
+                phase(progress, "MPEC")
+                phases.mpec(engine, x0, MPEC_LANE, workers)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first
