@@ -13,13 +13,9 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
    successive cone (in space)] from the associative statics, each raw answer certified and
    descended, its work counted and bounded (:func:`.gap.phases.published`);
-7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics,
-   bounded as the published methods (:func:`.gap.phases.slow`), so that all before it runs
-   as without it;
-8. **MPEC** — where the slow continuation certified below the rest of the search: Ferris &
-   Tin-Loi's relaxed complementarity through Ipopt (in the plane, up to MPEC_LANE_BLOCKS
-   blocks), from the associative statics, its raw answer certified and descended, on a
-   share of its own as the slow continuation (:func:`.gap.phases.mpec`);
+7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics, on
+   a share of its own (:func:`.gap.phases.slow`), so that all before it runs as without it;
+8. **MPEC** — Ferris & Tin-Loi's where the slow continuation went lower (:func:`.gap.phases.mpec`);
 9. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
 Lanes beside each other are pure evaluations on engines of their own, merged in the
@@ -59,8 +55,7 @@ CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuat
 PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
 #: Last: the slow continuation, alone, so that every phase before it runs as without it.
 SLOW = Lane((SlowContinuation(),))
-#: After it: Ferris & Tin-Loi's MPEC, alone, on a share of its own.
-MPEC_LANE = Lane((MPEC(),))
+MPEC_LANE = Lane((MPEC(),))  # after it, where it went lower
 
 
 def first_certificate(engine, x_assoc, workers=1):
@@ -111,10 +106,7 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies:
             phase(progress, "slow continuation")
             before = engine.record.best
-            by_slow = phases.slow(engine, x0, SLOW, workers)
-            # the MPEC only where its penalty counterpart went below the rest of the search:
-            # there the state lies on a slow relaxation path (docs/method/evidence.md)
-            if MPEC_LANE.strategies and by_slow is not None and (before is None or by_slow.alpha < before.alpha):
+            if phases.below(phases.slow(engine, x0, SLOW, workers), before) and MPEC_LANE.strategies:
                 phase(progress, "MPEC")
                 phases.mpec(engine, x0, MPEC_LANE, workers)
     except Stopped:

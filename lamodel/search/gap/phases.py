@@ -86,6 +86,14 @@ def slow(engine, x_assoc, lane, workers=1):
                      "slow continuation")
 
 
+def below(state, before) -> bool:
+    """``state`` (a lane's least, or None) is below the search's best ``before`` it (or
+    the first certified). Where the slow continuation is, its lowest state lies on a slow
+    relaxation path the quick ladders jump past: there the MPEC's lane runs
+    (docs/method/evidence.md, "The MPEC's lane")."""
+    return state is not None and (before is None or state.alpha < before.alpha)
+
+
 def mpec(engine, x_assoc, lane, workers=1):
     """The MPEC's ``lane`` last, on a share of its own as the slow continuation (its LP
     work, the start's mechanism and the certification of its answer: MPEC_SHARE times the
