@@ -234,6 +234,7 @@ def _without(names):
     plan.CONTINUATIONS = tuple(lane for lane in map(cut, plan.CONTINUATIONS) if lane.strategies)
     plan.PUBLISHED = cut(plan.PUBLISHED)
     plan.SLOW = cut(plan.SLOW)
+    plan.MPEC_LANE = cut(plan.MPEC_LANE)
 
 
 def _assignments(items):

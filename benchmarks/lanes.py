@@ -55,7 +55,7 @@ def solve_once(structure, names, lane_on, lines):
     from families import _without
     from lamodel.search import plan
     from lamodel.search.driver import SolveOptions, path_of, solve
-    kept = plan.IF_STALLED, plan.BESIDE_STALLED, plan.CONTINUATIONS, plan.PUBLISHED, plan.SLOW
+    kept = plan.IF_STALLED, plan.BESIDE_STALLED, plan.CONTINUATIONS, plan.PUBLISHED, plan.SLOW, plan.MPEC_LANE
     if not lane_on:
         _without(set(names))
     lines.lines.clear()
@@ -63,7 +63,7 @@ def solve_once(structure, names, lane_on, lines):
     try:
         o = solve(structure, SolveOptions())
     finally:
-        plan.IF_STALLED, plan.BESIDE_STALLED, plan.CONTINUATIONS, plan.PUBLISHED, plan.SLOW = kept
+        plan.IF_STALLED, plan.BESIDE_STALLED, plan.CONTINUATIONS, plan.PUBLISHED, plan.SLOW, plan.MPEC_LANE = kept
     seconds = time.perf_counter() - t
     lane = [m for m in map(lane_line(names).search, lines.lines) if m]
     # the lane's seconds: the published methods' phase is its own; a lane beside others is

@@ -173,7 +173,7 @@ PATHS = {"gap": "gap alternation", "rescue": "rescue", "fixed": "fixed-point fal
          "zero": "chain from zero cohesion", "continuation": "continuation", "slow": "slow continuation",
          "dilatancy": "dilatancy continuation",
          "genome": "GA", "ipopt": "Ipopt polish", "single": "single block", "slp": "successive LP",
-         "scp": "successive cone", "dry": "dry certificate"}
+         "scp": "successive cone", "dry": "dry certificate", "mpec": "MPEC"}
 
 
 def path_of(state) -> str:

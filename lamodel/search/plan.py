@@ -8,19 +8,18 @@ runs.csv's ``path``; how each works: docs/method/search.md):
    [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
    engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
-4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside
-   lane [continuation (rho from 30), dilatancy continuation] (a once-a-search strategy that
-   ran already is left out);
+4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside lane
+   [continuation (rho from 30), dilatancy continuation] (once-a-search strategies run once);
 5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
-6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane),
-   successive cone (in space)] from the associative statics, each raw answer certified and
-   descended, its work counted and bounded (:func:`.gap.phases.published`);
-7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics, bounded
-   as the published methods (:func:`.gap.phases.slow`): all before it runs as without it;
-8. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
+6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane), successive
+   cone (in space)], each raw answer certified and descended (:func:`.gap.phases.published`);
+7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics, on
+   a share of its own (:func:`.gap.phases.slow`), so that all before it runs as without it;
+8. **MPEC** — Ferris & Tin-Loi's where the slow continuation went lower (:func:`.gap.phases.mpec`);
+9. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
-Lanes beside each other are pure evaluations on engines of their own, merged in the
-order written: the same answer with any number of workers (:mod:`.gap.lanes`).
+Lanes side by side are pure evaluations on engines of their own, merged in the order
+written: the same answer with any number of workers (:mod:`.gap.lanes`).
 """
 from __future__ import annotations
 
@@ -34,30 +33,30 @@ from .gap.dilatancy import Dilatancy
 from .gap.dry import DryCertificate
 from .gap.lanes import Lane
 from .gap import phases
-from .gap.phases import associative, stable
+from .gap.phases import associative, stable, below
 from .gap.rescue import Rescue
 from .gap.single import SingleBlocks
 from .genetic import genetic_search
 from .options import Stopped
+from .published.mpec import MPEC
 from .published.successive_cone import SuccessiveCone
 from .published.successive_lp import SuccessiveLP
 from .tuning import RHO_CONTS
 
 log = logging.getLogger(__name__)
 
-#: Before the gap alternation, where every joint only crushes: the dry certificate.
-BEFORE_ALTERNATION = (DryCertificate(),)
-#: Where the gap alternation stalls: here (the search's engine), then beside it. The chain
-#: from zero cohesion before the rescue: at a partial optimum the rescue's ladders stay there
-#: (docs/method/evidence.md, "The lanes where the first certificate stalls").
+BEFORE_ALTERNATION = (DryCertificate(),)  # where every joint only crushes
+#: Where the gap alternation stalls: here, then beside it. The chain from zero cohesion before the
+#: rescue, whose ladders stay at a partial optimum (docs/method/evidence.md, "The lanes where ...").
 IF_STALLED = Lane((SingleBlocks(), FromZero(cold=True), Rescue(), FixedPoint()), until_certified=True)
 BESIDE_STALLED = (Lane((Dilatancy(),)),)
 #: After stability: the continuation lanes.
 CONTINUATIONS = (Lane((Continuation(RHO_CONTS[0]), FromZero())), Lane((Continuation(RHO_CONTS[1]), Dilatancy())))
 #: After the GA: the published fixed-point methods (each skips the formulation not its own).
 PUBLISHED = Lane((SuccessiveLP(), SuccessiveCone()))
-#: Last: the slow continuation, alone, so that every phase before it runs as without it.
-SLOW = Lane((SlowContinuation(),))
+#: Last: the slow continuation, alone, so that every phase before it runs as without it;
+#: after it, where it went lower, the MPEC.
+SLOW, MPEC_LANE = Lane((SlowContinuation(),)), Lane((MPEC(),))
 
 
 def first_certificate(engine, x_assoc, workers=1, given=()):
@@ -71,12 +70,11 @@ def continuations(engine, x_assoc, workers=1):
 
 
 def run(engine, opt, progress, client=None, on_associative=None, stall_work=None, workers=1, given=()):
-    """Phases 1-7 on ``engine`` (a :class:`.gap.GapSearch`, under its budget:
-    :mod:`.budget`). ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the
-    lanes' threads (:mod:`.workers`); ``given``: mechanisms (u, xi, scaled) of the same
-    blocks under other loads, tried before the alternation (:func:`.gap.phases.given_mechanisms`). Returns (what, alpha_assoc, LP solves of the first
-    certificate): what is 'searched', 'stopped' (a stop or the time limit), 'unstable', or
-    the associative LP's failure word."""
+    """Phases 1-8 on ``engine`` (a :class:`.gap.GapSearch`, under its budget: :mod:`.budget`).
+    ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the lanes' threads
+    (:mod:`.workers`); ``given``: mechanisms (u, xi, scaled) of other loads (phase 2). Returns
+    (what, alpha_assoc, LP solves of the first certificate): what is 'searched', 'stopped'
+    (a stop or the time limit), 'unstable', or the associative LP's failure word."""
     alpha_assoc, lps_first = np.nan, 0
     try:
         kind, alpha_assoc, x0 = associative(engine)
@@ -89,8 +87,7 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         log.info("associative bound %.6f (%d LP solves)", alpha_assoc, engine.n_lps())
         phase(progress, "first certificate")
         first_certificate(engine, x0, workers, given)
-        # (stability gives the statics LP back its basis near the collapse states: the GA's
-        # evaluations, pure ones included, start from there, not from alpha = 0)
+        # (stability gives the statics LP back its basis near the collapse states: the GA starts there)
         if not stable(engine):
             engine.record.withdraw()
             return "unstable", alpha_assoc, 0
@@ -108,7 +105,10 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
             phases.published(engine, x0, PUBLISHED, workers)
         if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies:
             phase(progress, "slow continuation")
-            phases.slow(engine, x0, SLOW, workers)
+            best = engine.record.best  # before the slow continuation
+            if below(phases.slow(engine, x0, SLOW, workers), best) and MPEC_LANE.strategies:
+                phase(progress, "MPEC")
+                phases.mpec(engine, x0, MPEC_LANE, workers)
     except Stopped:
         return "stopped", alpha_assoc, lps_first
     return "searched", alpha_assoc, lps_first

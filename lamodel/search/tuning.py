@@ -278,6 +278,13 @@ PUBLISHED_SHARE = 4.0
 #: the LP work so far (at most times the whole-search bound), beyond that bound: its ladder
 #: ends by itself in 40-80 LP solves (docs/method/evidence.md, "The slow continuation").
 SLOW_SHARE = 0.1
+#: The MPEC (plan.MPEC, last) runs on structures of at most this many blocks, each of its
+#: NLPs at most MPEC_LANE_ITERATIONS Ipopt iterations: an iteration costs about as many
+#: seconds as 2.4 (blocks / 1020)^1.8 (docs/method/evidence.md, "The MPEC's lane").
+MPEC_LANE_BLOCKS, MPEC_LANE_ITERATIONS = 150, 60
+#: Its LPs (the start's mechanism, the certification and descent of its answer) may spend
+#: this many times the search's LP work so far (at most times the whole-search bound).
+MPEC_SHARE = 1.0
 #: successive LP: stop when max |N_k - N_{k-1}| <= this fraction of the largest block load
 SLP_TOLERANCE = 1e-8
 #: successive LP: at most this many LPs after the associative one

@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from ..highs import INF
-from ..tuning import PUBLISHED_SHARE, SLOW_SHARE
+from ..tuning import MPEC_SHARE, PUBLISHED_SHARE, SLOW_SHARE
 from .lanes import Start
 
 
@@ -112,6 +112,24 @@ def slow(engine, x_assoc, lane, workers=1):
     work = engine.budget.work()
     return last_lane(engine, x_assoc, lane, work + int(SLOW_SHARE * min(work, engine.problem.work_bound())), workers,
                      "slow continuation")
+
+
+def below(state, before) -> bool:
+    """``state`` (a lane's least, or None) is below the search's best ``before`` it (or
+    the first certified). Where the slow continuation is, its lowest state lies on a slow
+    relaxation path the quick ladders jump past: there the MPEC's lane runs
+    (docs/method/evidence.md, "The MPEC's lane")."""
+    return state is not None and (before is None or state.alpha < before.alpha)
+
+
+def mpec(engine, x_assoc, lane, workers=1):
+    """The MPEC's ``lane`` last, on a share of its own as the slow continuation (its LP
+    work, the start's mechanism and the certification of its answer: MPEC_SHARE times the
+    search's so far, at most times the whole-search bound; its Ipopt iterations bounded by
+    the lane itself), so that all before it is as without it."""
+    work = engine.budget.work()
+    return last_lane(engine, x_assoc, lane, work + int(MPEC_SHARE * min(work, engine.problem.work_bound())), workers,
+                     "MPEC")
 
 
 def last_lane(engine, x_assoc, lane, bound, workers, phase):

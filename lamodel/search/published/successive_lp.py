@@ -170,19 +170,29 @@ class SuccessiveLP:
             counted[:] = n, work
             return engine.budget.stopping()
 
-        best = None
-        try:
+        def lane():
             it = iterate(lps, p.N_of(start.x_assoc), spent)
             spent()
-            if it.raw is not None and not engine.budget.over():
-                best = certified(engine, it.raw, "slp")
-        except Stopped:
-            if engine.budget.over():
-                raise
-        finally:
-            ran[self.once] = (best,)
-            engine.record.phase("successive LP", t)
-        return best
+            return certified(engine, it.raw, "slp") if it.raw is not None and not engine.budget.over() else None
+
+        return run_once(engine, self.once, "successive LP", t, lane)
+
+
+def run_once(engine, name, phase, t, lane):
+    """``lane()`` (a published method's lane: its least certified state, or None) run once a
+    search: what a work bound ended is None, the time cap or a stop go on up; the answer
+    kept under ``name`` (:attr:`~lamodel.search.gap.lanes.Lanes.ran`), the seconds since
+    ``t`` under ``phase``."""
+    best = None
+    try:
+        best = lane()
+    except Stopped:
+        if engine.budget.over():
+            raise
+    finally:
+        engine.lanes.ran[name] = (best,)
+        engine.record.phase(phase, t)
+    return best
 
 
 def certified(engine, raw, source):

@@ -32,6 +32,7 @@ def stones(n, seed, mu):
 
 def solved(structure, slow, monkeypatch):
     with monkeypatch.context() as m:
+        m.setattr(plan, "MPEC_LANE", Lane(()))  # the phase alone (the MPEC's lane after it: test_mpec_lane.py)
         if not slow:
             m.setattr(plan, "SLOW", Lane(()))
         return solve(structure, OPTIONS)
