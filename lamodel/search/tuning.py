@@ -386,10 +386,9 @@ CRUSHING_FAN_RATIO = 16.0
 #: A crushing cap beyond this many times the loads' size (dead and live forces' sum) is
 #: never reached: left out of the programs (an infinite f_c); the state is checked against every cap.
 CAP_FAR = 1e6
-#: The dry certificate (lamodel.search.gap.dry): a dry state is within the crushing caps when
-#: no joint's force passes its cap by more than this share of its capacity (a dry hinge sits
-#: on the joint's edge, beyond the stress block by |N| / (2 d b f_c) of its moment: at most
-#: 1.3e-8 at f_c = 1e9 on the arch, wall33 and bond10x10, 0.5 to 1.3 at f_c = 10).
+#: The dry certificate (lamodel.search.gap.dry): a dry state is within the crushing caps when no
+#: joint passes its cap by more than this share of its capacity (a dry hinge overshoots the stress
+#: block by |N| / (2 d b f_c) of its moment: measured in docs/method/materials.md).
 DRY_WITHIN_CAPS = 1e-6
 
 # ===================================================================== bridges
