@@ -20,6 +20,7 @@ from .errors import InputError
 from .output.rows import outcome_row
 from .search.driver import SolveOptions, solve
 from .search.state import CERTIFIED, INTERRUPTED, NOT_CERTIFIED
+from .search.tuning import RETRY_WORK
 from .structure import Structure
 
 #: Reference data shipped with the package (the seed's Table 1).
@@ -76,9 +77,9 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
     ``same_blocks``: the variants differ only in their live loads (load cases, positions
     of a rolling load). A variant the search left uncertified is then solved again with
     the certified variants' mechanisms as its first candidates (the nearest in the list
-    first): a mechanism of the same blocks is compatible under any load, and where a
-    statics holds its rows it is a collapse state of that variant
-    (:func:`lamodel.search.gap.phases.given_mechanisms`)."""
+    first: a mechanism of the same blocks is compatible under any load, and where a
+    statics holds its rows it is a collapse state of that variant,
+    :func:`lamodel.search.gap.phases.given_mechanisms`) and RETRY_WORK times the work."""
     rows, outcomes = [], {}
     for label, structure in zip(labels, variants):
         if rows and rows[-1]["status"] == "interrupted":
@@ -110,7 +111,8 @@ def _from_the_others(key, labels, variants, options, progress, rows, outcomes):
             continue
         nearest = sorted(certified, key=lambda j: (abs(j - i), j))
         before = rows[i]["seconds"]  # the first pass's: the row counts both
-        outcome = solve(structure, options or SolveOptions(), mechanisms=[outcomes[labels[j]].best for j in nearest])
+        outcome = solve(structure, options or SolveOptions(), mechanisms=[outcomes[labels[j]].best for j in nearest],
+                        work_scale=RETRY_WORK)
         if outcome.status == INTERRUPTED:
             break
         if outcome.status != CERTIFIED:

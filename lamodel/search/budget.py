@@ -32,6 +32,8 @@ class WorkRule:
 
     first: float
     total: float
+    #: the work bound times this (a study's variant solved again: RETRY_WORK)
+    scale: float = 1.0
 
 
 class Charged(Deadline):
@@ -80,17 +82,22 @@ class Budget:
         self.deadline = Charged(self)
 
     @classmethod
-    def for_solve(cls, time_limit=None, stop=None) -> "Budget":
+    def for_solve(cls, time_limit=None, stop=None, work_scale=1.0) -> "Budget":
         """The budget of a solve: the time cap from ``time_limit`` seconds (None: none) and
-        ``stop``; without a time limit, the default rule's work bounds."""
-        rule = WorkRule(FIRST_WORK, TOTAL_WORK) if time_limit is None else None
+        ``stop``; without a time limit, the default rule's work bounds (times ``work_scale``)."""
+        rule = WorkRule(FIRST_WORK, TOTAL_WORK * work_scale, work_scale) if time_limit is None else None
         return cls(Deadline.after(time_limit, stop), rule, time_limit)
 
     def count(self, problem) -> "Budget":
         """The engine's formulation ``problem`` counts its work here."""
         self.problem = problem
-        self.first_bound = None if self.rule is None else self.rule.first * problem.work_bound()
+        self.first_bound = None if self.rule is None else self.rule.first * self.whole_bound()
         return self
+
+    def whole_bound(self) -> float:
+        """The whole search's LP work bound: the formulation's (WORK_PER_BLOCK a block) times
+        the rule's scale."""
+        return self.problem.work_bound() * (self.rule.scale if self.rule is not None else 1.0)
 
     # ------------------------------------------------------------------ the time cap
     def left(self) -> float:
@@ -156,7 +163,7 @@ class Budget:
         of the search set."""
         if self.rule is not None:
             lps, work = self.aside
-            self.bound(self.rule.total * (lps_first - lps) + lps, self.problem.work_bound() + work)
+            self.bound(self.rule.total * (lps_first - lps) + lps, self.whole_bound() + work)
 
     def bound(self, work_limit=None, work_bound=None):
         """Bounds of this engine's search from here (None: no bound)."""

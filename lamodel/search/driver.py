@@ -70,7 +70,7 @@ def ipopt_seconds(n_blocks: int) -> float:
 
 
 def solve(structure: Structure | Structure3D, options: SolveOptions | None = None, stop=None,
-          on_associative=None, mechanisms=()) -> Outcome:
+          on_associative=None, mechanisms=(), work_scale=1.0) -> Outcome:
     """Find the least certified collapse multiplier of the structure (see module doc), planar
     or in space: the same steps on the formulation of :func:`.gap.formulation_of` (in
     space: cone programs, no Ipopt polish).
@@ -82,7 +82,8 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     search, :mod:`lamodel.bound.beside`). ``mechanisms``: certified collapse states (the
     user's units and order) of the same blocks and contacts under other loads, e.g. a
     study's other load positions (planar): their mechanisms are certified here first
-    (:func:`.gap.phases.given_mechanisms`).
+    (:func:`.gap.phases.given_mechanisms`). ``work_scale``: the default run's work bounds
+    times this (no effect under a time limit).
     """
     from .gap import GapSearch
 
@@ -96,7 +97,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     user, (structure, order) = structure, canonical(structure)
     sigint = threading.Event()  # Ctrl-C
     asked = sigint.is_set if stop is None else (lambda: sigint.is_set() or bool(stop()))
-    budget = Budget.for_solve(opt.time_limit, asked)
+    budget = Budget.for_solve(opt.time_limit, asked, work_scale)
     workers = count_workers(opt.workers)
     plan = _polish_plan(structure, opt, budget, workers)
     # the search leaves the polish its share of a time limit

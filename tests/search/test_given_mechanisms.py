@@ -14,6 +14,7 @@ from lamodel.loads import case_structure
 from lamodel.search.canonical import canonical, mechanism_from_user, to_user
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.search.state import CERTIFIED, NOT_CERTIFIED
+from lamodel.search.tuning import RETRY_WORK
 
 LP_ONLY = SolveOptions(starts=0, progress=False)
 
@@ -76,15 +77,26 @@ def test_a_mechanism_goes_to_the_canonical_order_and_back():
 def test_a_study_solves_an_uncertified_variant_again_from_the_others(monkeypatch):
     real, calls = studies.solve, []
 
-    def solve_failing_once(structure, options=None, mechanisms=()):
-        calls.append((structure.name, len(mechanisms)))
-        out = real(structure, options, mechanisms=mechanisms)
+    def solve_failing_once(structure, options=None, mechanisms=(), work_scale=1.0):
+        calls.append((len(mechanisms), work_scale))
+        out = real(structure, options, mechanisms=mechanisms, work_scale=work_scale)
         if len(calls) == 1:  # the first variant, first pass: as if the search had stalled
             return dataclasses.replace(out, status=NOT_CERTIFIED, best=None)
         return out
 
     monkeypatch.setattr(studies, "solve", solve_failing_once)
     df, outcomes = studies.load_case_study(stack(), LP_ONLY)
-    assert [n for _, n in calls] == [0, 0, 0, 2]          # the second pass: the two certified variants' mechanisms
+    # the second pass: the two certified variants' mechanisms, and more work
+    assert calls == [(0, 1.0), (0, 1.0), (0, 1.0), (2, RETRY_WORK)] and RETRY_WORK > 1
     assert df["certified"].all() and outcomes["top"].status == CERTIFIED
     assert df.set_index("case").loc["top", "alpha_c"] == pytest.approx(0.625, rel=1e-9)
+
+
+def test_more_work_is_more_work_bound():
+    from lamodel.search.budget import Budget
+    from lamodel.search.gap.problem import ScaledProblem
+    p = ScaledProblem(case_structure(stack(), "top"))
+    one, two = Budget.for_solve().count(p), Budget.for_solve(work_scale=2.0).count(p)
+    assert two.whole_bound() == 2 * one.whole_bound() == 2 * p.work_bound()
+    assert two.first_bound == 2 * one.first_bound and two.rule.total == 2 * one.rule.total
+    assert Budget.for_solve(time_limit=5.0, work_scale=2.0).rule is None   # a time limit has no work bounds

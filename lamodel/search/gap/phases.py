@@ -100,7 +100,7 @@ def published(engine, x_assoc, lane, workers=1):
     Its bound, without a time limit: PUBLISHED_SHARE times the search's LP work so far,
     within the formulation's work bound (the default run's whole-search bound)."""
     work = engine.budget.work()
-    return last_lane(engine, x_assoc, lane, min(work * (1.0 + PUBLISHED_SHARE), engine.problem.work_bound()),
+    return last_lane(engine, x_assoc, lane, min(work * (1.0 + PUBLISHED_SHARE), engine.budget.whole_bound()),
                      workers, "published methods")
 
 
@@ -110,7 +110,7 @@ def slow(engine, x_assoc, lane, workers=1):
     spent), so that what ran before it is as without it: SLOW_SHARE times the search's LP
     work so far, at most SLOW_SHARE times that bound, in whole units of LP work (none: no LP)."""
     work = engine.budget.work()
-    return last_lane(engine, x_assoc, lane, work + int(SLOW_SHARE * min(work, engine.problem.work_bound())), workers,
+    return last_lane(engine, x_assoc, lane, work + int(SLOW_SHARE * min(work, engine.budget.whole_bound())), workers,
                      "slow continuation")
 
 
@@ -128,7 +128,7 @@ def mpec(engine, x_assoc, lane, workers=1):
     search's so far, at most times the whole-search bound; its Ipopt iterations bounded by
     the lane itself), so that all before it is as without it."""
     work = engine.budget.work()
-    return last_lane(engine, x_assoc, lane, work + int(MPEC_SHARE * min(work, engine.problem.work_bound())), workers,
+    return last_lane(engine, x_assoc, lane, work + int(MPEC_SHARE * min(work, engine.budget.whole_bound())), workers,
                      "MPEC")
 
 
