@@ -62,7 +62,7 @@ def dry_first(engine):
     """The step (module doc) on ``engine`` (a :class:`~lamodel.search.gap.GapSearch` whose
     joints only crush): the least certified state it gives, or None."""
     from . import GapSearch
-    from .phases import associative
+    from .phases import associative, merge_counts
 
     t = time.perf_counter()
     p = engine.problem
@@ -81,7 +81,7 @@ def dry_first(engine):
         if budget.expired():  # the search's time cap or a stop, not the dry certificate found
             raise
     finally:
-        _merge(p, dry.problem)
+        merge_counts(p, dry.problem)
         if budget.first_bound is not None:  # the gap alternation after the step: the room it had without it
             budget.first_bound += dry.problem.work()
     best = dry.record.best
@@ -119,16 +119,6 @@ def capped_statics(problem, state):
     s_f = np.concatenate([state.N, state.V, state.M])
     slack = (problem.b - problem.Y @ s_f)[problem.kept]
     return np.concatenate([np.maximum(slack, 0.0) / problem.w_kept, s_f, [state.alpha]])
-
-
-def _merge(problem, dry_problem):
-    """The dry engine's solves and work counted as the search's (certification LPs as such)."""
-    lps = dry_problem.n_lps()
-    if hasattr(problem, "n_lp") and hasattr(dry_problem, "n_lp"):
-        problem.n_lp += dry_problem.n_lp
-        lps -= dry_problem.n_lp
-    problem.lps_elsewhere += lps
-    problem.work_elsewhere += dry_problem.work()
 
 
 class DryCertificate:

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..highs import INF
 from ..tuning import MPEC_SHARE, PUBLISHED_SHARE, SLOW_SHARE
+from ..budget import Budget
 from .lanes import Start
 
 
@@ -76,21 +77,41 @@ def first_certificate(engine, x_assoc, here, there, workers=1, before=(), given=
 def given_mechanisms(engine, given):
     """Each mechanism (u, xi) of ``given`` certified on this structure (its flow rows held,
     min alpha: one statics each; a mechanism of another load of the same blocks is
-    compatible here, only its normalisation changes) and descended. Returns the least
-    certified state, or None."""
+    compatible here, only its normalisation changes) and descended, on an engine of its
+    own (the search's LPs keep their bases: where none certifies, the search runs as
+    without them; the solves are counted). Returns the least certified state, or None."""
+    if not given:
+        return None
+    from . import GapSearch
     t = time.perf_counter()
+    side = GapSearch(engine.problem.user, Budget(engine.budget.cap, None, engine.budget.seconds))
     best = None
     try:
         for u, xi in given:
-            st = engine.certifier.certify(u, xi, "given")
+            st = side.certifier.certify(u, xi, "given")
             if st is not None:
-                st = engine.descent.descend(st)
+                st = side.descent.descend(st)
                 if best is None or st.alpha < best.alpha:
                     best = st
     finally:
-        if given:
-            engine.record.phase("given mechanisms", t)
+        merge_counts(engine.problem, side.problem)
+        engine.record.phase("given mechanisms", t)
+    if best is not None:
+        if engine.record.on_state is not None:
+            engine.record.on_state(best)
+        engine.record.take(best)
     return best
+
+
+def merge_counts(problem, other):
+    """The solves and work of ``other`` (a problem of an engine of its own) counted as
+    ``problem``'s (certification LPs as such)."""
+    lps = other.n_lps()
+    if hasattr(problem, "n_lp") and hasattr(other, "n_lp"):
+        problem.n_lp += other.n_lp
+        lps -= other.n_lp
+    problem.lps_elsewhere += lps
+    problem.work_elsewhere += other.work()
 
 
 def published(engine, x_assoc, lane, workers=1):
