@@ -161,8 +161,8 @@ WORK_PER_BLOCK = 4.0e5
 #: lane with what the alternation left of it: twice the most measured when it was set.
 FIRST_WORK = 8.0
 #: A study's variant whose search certified nothing is solved again from the other variants'
-#: mechanisms with the work bounds times this: 2 certified the last uncertified position of the
-#: three-span bridge (docs/bridges.md), where the other positions' mechanisms did not hold.
+#: mechanisms with the work bounds times this: on the three-span bridge (docs/bridges.md) twice
+#: the bounds alone certified a position the default left, and the second try 2 of 3 stalled.
 RETRY_WORK = 2.0
 #: Once the first certificate's main lane (plan.IF_STALLED) certifies, the lane beside it
 #: may spend this many times the LP work the main lane took: at 4 the dilatancy lane's lower
