@@ -92,6 +92,9 @@ class HighsLP:
         #: simplex and interior-point iterations times rows, summed over the solves: a count
         #: that grows like their time (the search's work bound without a time limit)
         self.work = 0
+        #: the rows an iteration counts in :attr:`work` (None: this LP's): an LP that stands for
+        #: a larger one (rows brought in only when violated) counts the larger one's
+        self.rows_counted = None
         self.trace = None  # a print-like function to log every solve
         self.warm_iterations, self.warm_seconds = 0, 0.0  # of warm solves (see _backstop)
         self.cold_seconds = 0.0  # the longest cold solve (see _backstop)
@@ -284,7 +287,7 @@ class HighsLP:
         info = h.getInfo()
         iterations = info.simplex_iteration_count
         self.work += (max(iterations, 0) + max(info.ipm_iteration_count, 0) + max(info.crossover_iteration_count, 0)) \
-            * self.m
+            * (self.m if self.rows_counted is None else self.rows_counted)
         if was_cold:
             self.cold_seconds = max(self.cold_seconds, dt)
         elif iterations > 0 and (st in (S.kOptimal, S.kInfeasible, S.kUnbounded, S.kIterationLimit)
@@ -348,6 +351,12 @@ class HighsLP:
 
     def objective(self) -> float:
         return float(self.h.getInfo().objective_function_value)
+
+    def primal_ray(self):
+        """HiGHS's primal ray of the columns after an 'unbounded' solve (a direction the
+        objective improves along without end), or None when HiGHS has none."""
+        _, has, ray = self.h.getPrimalRay()
+        return np.asarray(ray, float) if has else None
 
     def dual_ray(self):
         """HiGHS's Farkas ray of the rows after an 'infeasible' solve (either sign may be

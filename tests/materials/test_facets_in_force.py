@@ -52,6 +52,8 @@ def test_the_lps_optima_are_those_of_the_whole_polygon(fc):
     if fc == 3.0:
         assert lazy.facet_rounds > 0  # facets beyond eq. 4's came into force
     assert lazy.in_force.sum() < lazy.nr / 2
+    # the statics' rows: equilibrium and the facets in force only
+    assert lazy.stat.m == 3 * lazy.nb + lazy.in_force.sum() < full.stat.m
 
 
 def test_bases_carry_the_facets_in_force_to_another_copy():
