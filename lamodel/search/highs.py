@@ -352,12 +352,6 @@ class HighsLP:
     def objective(self) -> float:
         return float(self.h.getInfo().objective_function_value)
 
-    def primal_ray(self):
-        """HiGHS's primal ray of the columns after an 'unbounded' solve (a direction the
-        objective improves along without end), or None when HiGHS has none."""
-        _, has, ray = self.h.getPrimalRay()
-        return np.asarray(ray, float) if has else None
-
     def dual_ray(self):
         """HiGHS's Farkas ray of the rows after an 'infeasible' solve (either sign may be
         the certificate: the caller checks), or None when HiGHS has none."""
