@@ -130,15 +130,15 @@ class StrengthProblem(ScaledProblem):
         return super().work_bound() * self.rows_all / (3 * self.nb)
 
     # ------------------------------------------------ bases of LPs whose rows grow
-    FICTITIOUS = ("stat", "coh", "coh_r")
+    GROWING = ("stat", "coh", "coh_r")  # the LPs whose rows grow
 
     def bases(self):
-        """As :meth:`ScaledProblem.bases`, the fictitious LPs' row statuses in the order of
+        """As :meth:`ScaledProblem.bases`, the row statuses of the LPs whose rows grow in the order of
         all the yield rows (a row not in force: basic), with the rows in force: another
         copy of this problem, whose facets came into force in another order, restarts
         from them (:meth:`restart`)."""
         out = super().bases()
-        for name in self.FICTITIOUS:
+        for name in self.GROWING:
             if out[name] is not None:
                 cols, rows = out[name]
                 full = np.full(3 * self.nb + self.nr, BASIC, np.int8)
@@ -151,7 +151,7 @@ class StrengthProblem(ScaledProblem):
     def restart(self, bases):
         self._bring_into_force(bases.get("in_force", self.in_force))
         own = dict(bases)
-        for name in self.FICTITIOUS:
+        for name in self.GROWING:
             if own.get(name) is not None:
                 cols, full = own[name]
                 own[name] = cols, np.r_[full[:3 * self.nb], full[3 * self.nb + self.fict_rows]]
@@ -264,11 +264,12 @@ class StrengthProblem(ScaledProblem):
             if status != "optimal":
                 return status, None
             x = self._filled(self.stat.x())
-            late = np.zeros(self.nr, bool)
+            late, excess = np.zeros(self.nr, bool), np.zeros(self.nr)
             late[self.kept] = out & (x[:self.nl] < -LP_TOLERANCE)
             if not late.any():
                 break
-            self._bring_into_force(self._most_violated(late, -self.w * (self.row_of_pair @ x[:self.nl])))
+            excess[self.kept] = -self.w_kept * x[:self.nl]  # by how much each row is violated
+            self._bring_into_force(self._most_violated(late, excess))
             self.facet_rounds += 1
         x[:self.nl] = np.maximum(x[:self.nl], 0.0)
         x[-1] = max(x[-1], 0.0)
