@@ -17,10 +17,11 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError
+from .mirror import mirror_loads, mirror_of, mirror_state
 from .output.rows import outcome_row
 from .search.driver import SolveOptions, solve
 from .search.state import CERTIFIED, INTERRUPTED, NOT_CERTIFIED
-from .search.tuning import RETRY_WORK
+from .search.tuning import MIRROR_GAIN, RETRY_WORK
 from .structure import Structure
 
 #: Reference data shipped with the package (the seed's Table 1).
@@ -79,7 +80,11 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
     the certified variants' mechanisms as its first candidates (the nearest in the list
     first: a mechanism of the same blocks is compatible under any load, and where a
     statics holds its rows it is a collapse state of that variant,
-    :func:`lamodel.search.gap.phases.given_mechanisms`) and RETRY_WORK times the work."""
+    :func:`lamodel.search.gap.phases.given_mechanisms`) and RETRY_WORK times the work.
+    Before that, on a mirror-symmetric structure, a variant whose mirror image (the other
+    variant whose live loads are its own reflected) certified a lower alpha, or that certified
+    none, is solved again from the image of that state (:mod:`lamodel.mirror`): mirror
+    images get the same alpha."""
     rows, outcomes = [], {}
     for label, structure in zip(labels, variants):
         if rows and rows[-1]["status"] == "interrupted":
@@ -93,6 +98,8 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
         if progress is not None:
             progress(row)
     if same_blocks and not any(r["status"] == "interrupted" for r in rows):
+        _from_the_mirror(key, labels, variants, options, progress, rows, outcomes)
+    if same_blocks and not any(r["status"] == "interrupted" for r in rows):
         _from_the_others(key, labels, variants, options, progress, rows, outcomes)
     df = pd.DataFrame(rows)
     alpha = df["alpha_c"].where(df["certified"].astype(bool))
@@ -102,26 +109,60 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
     return df, outcomes
 
 
+def _from_the_mirror(key, labels, variants, options, progress, rows, outcomes):
+    """The mirror pass of :func:`_variant_study` (``same_blocks``): each variant whose
+    mirror image certified an alpha lower by MIRROR_GAIN (or that certified none) solved
+    again with the image of that state as its first candidate, in the list's order (so a
+    pair ends with the lower of its two)."""
+    reflection = mirror_of(variants[0]) if len(variants) > 1 else None
+    if reflection is None:
+        return
+    image = {}  # i -> the variant whose live loads are i's reflected
+    for i, si in enumerate(variants):
+        image[i] = next((j for j, sj in enumerate(variants) if j != i and mirror_loads(si, sj, reflection)), None)
+    for i, label in enumerate(labels):
+        j = image[i]
+        if j is None or outcomes[labels[j]].status != CERTIFIED:
+            continue
+        theirs, mine = outcomes[labels[j]].best, outcomes[label]
+        if mine.status == CERTIFIED and mine.best.alpha <= theirs.alpha + MIRROR_GAIN * max(1.0, abs(theirs.alpha)):
+            continue
+        if mine.status not in (CERTIFIED, NOT_CERTIFIED):
+            continue
+        if not _again(key, i, labels, variants, options, progress, rows, outcomes,
+                      mechanisms=[mirror_state(theirs, reflection)]):
+            break
+
+
 def _from_the_others(key, labels, variants, options, progress, rows, outcomes):
     """The second pass of :func:`_variant_study` (``same_blocks``): each uncertified
     variant solved again from the certified variants' mechanisms, nearest first."""
     certified = [i for i, label in enumerate(labels) if outcomes[label].status == CERTIFIED]
-    for i, (label, structure) in enumerate(zip(labels, variants)):
+    for i, label in enumerate(labels):
         if outcomes[label].status != NOT_CERTIFIED or not certified:
             continue
         nearest = sorted(certified, key=lambda j: (abs(j - i), j))
-        before = rows[i]["seconds"]  # the first pass's: the row counts both
-        outcome = solve(structure, options or SolveOptions(), mechanisms=[outcomes[labels[j]].best for j in nearest],
-                        work_scale=RETRY_WORK)
-        if outcome.status == INTERRUPTED:
+        if not _again(key, i, labels, variants, options, progress, rows, outcomes,
+                      mechanisms=[outcomes[labels[j]].best for j in nearest], work_scale=RETRY_WORK):
             break
-        if outcome.status != CERTIFIED:
-            continue
+
+
+def _again(key, i, labels, variants, options, progress, rows, outcomes, **how) -> bool:
+    """Variant i solved again (``how``: :func:`solve`'s ``mechanisms`` and ``work_scale``);
+    its outcome and row replaced when the new solve certified a lower alpha (or the first),
+    the row's seconds counting both solves. False when a stop ended the solve."""
+    label, mine = labels[i], outcomes[labels[i]]
+    before = rows[i]["seconds"]
+    outcome = solve(variants[i], options or SolveOptions(), **how)
+    if outcome.status == INTERRUPTED:
+        return False
+    if outcome.status == CERTIFIED and (mine.status != CERTIFIED or outcome.best.alpha < mine.best.alpha):
         outcomes[label] = outcome
         rows[i] = {key: label, **outcome_row(outcome)}
         rows[i]["seconds"] += before
         if progress is not None:
             progress(rows[i])
+    return True
 
 
 def governing(df: pd.DataFrame, key: str):
