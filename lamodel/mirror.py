@@ -15,8 +15,9 @@ swapped. Either way N is kept and V changes sign (a reflection reverses the tang
 the two slides trade places; the couple changes sign when the ends keep their order
 (a hinge at one edge becomes a hinge at the other: the two halves of the N-M rows trade
 places) and keeps it when they swap. Block motions ``(u_x, u_y, theta)`` at the centroid
-reflect to ``(-u_x, u_y, -theta)``. The receiver certifies the image again like any
-given mechanism (:func:`lamodel.search.driver.solve`'s ``mechanisms``).
+reflect to ``(-u_x, u_y, -theta)``. The image is re-checked on the mirror variant by the
+residual test every reported state passes (:func:`image_on`), or given to its search as a
+mechanism to certify (:func:`lamodel.search.driver.solve`'s ``mechanisms``).
 """
 from __future__ import annotations
 
@@ -24,8 +25,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .formulation.matrices import Formulation
+from .search.certify import residuals
 from .search.state import CollapseState
-from .search.tuning import CANONICAL_TOLERANCE
+from .search.tuning import CANONICAL_TOLERANCE, RESIDUAL_TOLERANCE
 from .structure import Structure
 
 #: per-contact values that must agree between a contact and its image
@@ -122,6 +125,15 @@ def mirror_state(st: CollapseState, m: Mirror) -> CollapseState:
         flow[target, m.contacts] = flow0[kind]
     return replace(st, N=N, V=V, M=M, u=u.reshape(-1), xi=xi.reshape(-1), flow=flow.reshape(-1),
                    source=f"mirror of {st.source}" if st.source else "mirror", residual={})
+
+
+def image_on(other: Structure, st: CollapseState, m: Mirror) -> CollapseState | None:
+    """The image of ``st`` under ``m`` as a collapse state of ``other`` (the mirror variant,
+    user's units), with its residuals there (:func:`lamodel.search.certify.residuals`, the
+    check of every reported state); None if it fails that check."""
+    image = mirror_state(st, m)
+    image.residual = residuals(Formulation.of(other), image.N, image.V, image.M, image.alpha, image.u, image.xi)
+    return image if max(image.residual.values()) <= RESIDUAL_TOLERANCE else None
 
 
 # ----------------------------------------------------------------------------- helpers

@@ -11,16 +11,17 @@ is never modified.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from .errors import InputError
-from .mirror import mirror_loads, mirror_of, mirror_state
+from .mirror import image_on, mirror_loads, mirror_of
 from .output.rows import outcome_row
 from .search.driver import SolveOptions, solve
-from .search.state import CERTIFIED, INTERRUPTED, NOT_CERTIFIED
+from .search.state import CERTIFIED, INTERRUPTED, NOT_CERTIFIED, Run
 from .search.tuning import MIRROR_GAIN, RETRY_WORK
 from .structure import Structure
 
@@ -81,9 +82,9 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
     first: a mechanism of the same blocks is compatible under any load, and where a
     statics holds its rows it is a collapse state of that variant,
     :func:`lamodel.search.gap.phases.given_mechanisms`) and RETRY_WORK times the work.
-    Before that, on a mirror-symmetric structure, a variant whose mirror image (the other
-    variant whose live loads are its own reflected) certified a lower alpha, or that certified
-    none, is solved again from the image of that state (:mod:`lamodel.mirror`): mirror
+    Before that and after it, on a mirror-symmetric structure, a variant whose mirror image
+    (the other variant whose live loads are its own reflected) certified a lower alpha, or
+    that certified none, takes the image of that state (:mod:`lamodel.mirror`): mirror
     images get the same alpha."""
     rows, outcomes = [], {}
     for label, structure in zip(labels, variants):
@@ -97,10 +98,11 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
         rows.append(row)
         if progress is not None:
             progress(row)
-    if same_blocks and not any(r["status"] == "interrupted" for r in rows):
-        _from_the_mirror(key, labels, variants, options, progress, rows, outcomes)
-    if same_blocks and not any(r["status"] == "interrupted" for r in rows):
-        _from_the_others(key, labels, variants, options, progress, rows, outcomes)
+    # mirror images first (a state of the same structure reflected), then the second try, and
+    # the mirror again for what the second try certified
+    for again in (_from_the_mirror, _from_the_others, _from_the_mirror):
+        if same_blocks and not any(r["status"] == "interrupted" for r in rows):
+            again(key, labels, variants, options, progress, rows, outcomes)
     df = pd.DataFrame(rows)
     alpha = df["alpha_c"].where(df["certified"].astype(bool))
     df["governing"] = False
@@ -111,27 +113,31 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
 
 def _from_the_mirror(key, labels, variants, options, progress, rows, outcomes):
     """The mirror pass of :func:`_variant_study` (``same_blocks``): each variant whose
-    mirror image certified an alpha lower by MIRROR_GAIN (or that certified none) solved
-    again with the image of that state as its first candidate, in the list's order (so a
-    pair ends with the lower of its two)."""
+    mirror image certified an alpha lower by MIRROR_GAIN (or that certified none) takes
+    the image of that state, re-checked on it by the residual test (:func:`.mirror.image_on`),
+    in the list's order (a pair ends with the lower of its two)."""
     reflection = mirror_of(variants[0]) if len(variants) > 1 else None
     if reflection is None:
         return
-    image = {}  # i -> the variant whose live loads are i's reflected
-    for i, si in enumerate(variants):
-        image[i] = next((j for j, sj in enumerate(variants) if j != i and mirror_loads(si, sj, reflection)), None)
     for i, label in enumerate(labels):
-        j = image[i]
-        if j is None or outcomes[labels[j]].status != CERTIFIED:
+        j = next((j for j, sj in enumerate(variants) if j != i and mirror_loads(variants[i], sj, reflection)), None)
+        mine = outcomes[label]
+        if j is None or outcomes[labels[j]].status != CERTIFIED or mine.status not in (CERTIFIED, NOT_CERTIFIED):
             continue
-        theirs, mine = outcomes[labels[j]].best, outcomes[label]
+        theirs = outcomes[labels[j]].best
         if mine.status == CERTIFIED and mine.best.alpha <= theirs.alpha + MIRROR_GAIN * max(1.0, abs(theirs.alpha)):
             continue
-        if mine.status not in (CERTIFIED, NOT_CERTIFIED):
+        image = image_on(variants[i], theirs, reflection)
+        if image is None:
             continue
-        if not _again(key, i, labels, variants, options, progress, rows, outcomes,
-                      mechanisms=[mirror_state(theirs, reflection)]):
-            break
+        seconds = rows[i]["seconds"]
+        outcomes[label] = replace(mine, best=image, status=CERTIFIED, stalled=None,
+                                  message=f"certified collapse state: the mirror image of {labels[j]}'s",
+                                  runs=[*mine.runs, Run(len(mine.runs), "mirror", alpha_certified=image.alpha,
+                                                        status=CERTIFIED, path="mirror")])
+        rows[i] = {key: label, **outcome_row(outcomes[label]), "seconds": seconds}
+        if progress is not None:
+            progress(rows[i])
 
 
 def _from_the_others(key, labels, variants, options, progress, rows, outcomes):
