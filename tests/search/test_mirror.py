@@ -89,3 +89,37 @@ def test_mirror_positions_of_a_rolled_axle_get_the_same_adequacy_factor():
     for o in outcomes.values():
         check_state(o.structure, o.best)
     assert [o.best.source.startswith("mirror") for o in outcomes.values()].count(True) == 1
+
+
+def test_the_study_gives_a_case_its_mirror_images_state():
+    """The mirror pass alone: a case left uncertified (its outcome withdrawn here) takes
+    the reflected state of its image, re-checked; the image's own row is unchanged."""
+    from lamodel.output.rows import outcome_row
+    from lamodel.search.state import CERTIFIED, NOT_CERTIFIED
+    from lamodel.studies import _from_the_mirror
+    s = read(INSTANCES / "wall33.dat")
+    variants = [s, reflected_live(s)]
+    labels = ["+x", "-x"]
+    outcomes = {label: solve(v, LP_ONLY) for label, v in zip(labels, variants)}
+    outcomes["-x"] = replace(outcomes["-x"], best=None, status=NOT_CERTIFIED)
+    rows = [{"case": label, **outcome_row(outcomes[label])} for label in labels]
+    _from_the_mirror("case", labels, variants, LP_ONLY, None, rows, outcomes)
+    mirrored = outcomes["-x"]
+    assert mirrored.status == CERTIFIED and rows[1]["certified"]
+    assert mirrored.best.alpha == outcomes["+x"].best.alpha == rows[1]["alpha_c"]
+    assert mirrored.runs[-1].path == "mirror" and mirrored.best.source.startswith("mirror")
+    check_state(variants[1], mirrored.best)
+    assert rows[0]["alpha_c"] == outcomes["+x"].best.alpha
+
+
+def test_no_mirror_pass_where_the_loads_are_not_reflections():
+    from lamodel.output.rows import outcome_row
+    from lamodel.search.state import NOT_CERTIFIED
+    from lamodel.studies import _from_the_mirror
+    s = read(INSTANCES / "wall33.dat")
+    up = replace(s, live=np.column_stack([s.live[:, 1], -s.live[:, 0]]), live_m=np.zeros(s.n_blocks))  # turned 90°
+    variants, labels = [s, up], ["+x", "up"]
+    outcomes = {"+x": solve(s, LP_ONLY), "up": replace(solve(s, LP_ONLY), best=None, status=NOT_CERTIFIED)}
+    rows = [{"case": label, **outcome_row(outcomes[label])} for label in labels]
+    _from_the_mirror("case", labels, variants, LP_ONLY, None, rows, outcomes)
+    assert outcomes["up"].best is None and not rows[1]["certified"]
