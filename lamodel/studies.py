@@ -116,7 +116,8 @@ def _from_the_mirror(key, labels, variants, options, progress, rows, outcomes):
     mirror image certified an alpha lower by MIRROR_GAIN (or that certified none) takes
     the image of that state, re-checked on it by the residual test (:func:`.mirror.image_on`),
     in the list's order (a pair ends with the lower of its two)."""
-    reflection = mirror_of(variants[0]) if len(variants) > 1 else None
+    planar = len(variants) > 1 and isinstance(variants[0], Structure)
+    reflection = mirror_of(variants[0]) if planar else None  # (a reflection in the plane)
     if reflection is None:
         return
     for i, label in enumerate(labels):
