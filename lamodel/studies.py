@@ -145,31 +145,22 @@ def _from_the_others(key, labels, variants, options, progress, rows, outcomes):
     """The second pass of :func:`_variant_study` (``same_blocks``): each uncertified
     variant solved again from the certified variants' mechanisms, nearest first."""
     certified = [i for i, label in enumerate(labels) if outcomes[label].status == CERTIFIED]
-    for i, label in enumerate(labels):
+    for i, (label, structure) in enumerate(zip(labels, variants)):
         if outcomes[label].status != NOT_CERTIFIED or not certified:
             continue
         nearest = sorted(certified, key=lambda j: (abs(j - i), j))
-        if not _again(key, i, labels, variants, options, progress, rows, outcomes,
-                      mechanisms=[outcomes[labels[j]].best for j in nearest], work_scale=RETRY_WORK):
+        before = rows[i]["seconds"]  # the first pass's: the row counts both
+        outcome = solve(structure, options or SolveOptions(), mechanisms=[outcomes[labels[j]].best for j in nearest],
+                        work_scale=RETRY_WORK)
+        if outcome.status == INTERRUPTED:
             break
-
-
-def _again(key, i, labels, variants, options, progress, rows, outcomes, **how) -> bool:
-    """Variant i solved again (``how``: :func:`solve`'s ``mechanisms`` and ``work_scale``);
-    its outcome and row replaced when the new solve certified a lower alpha (or the first),
-    the row's seconds counting both solves. False when a stop ended the solve."""
-    label, mine = labels[i], outcomes[labels[i]]
-    before = rows[i]["seconds"]
-    outcome = solve(variants[i], options or SolveOptions(), **how)
-    if outcome.status == INTERRUPTED:
-        return False
-    if outcome.status == CERTIFIED and (mine.status != CERTIFIED or outcome.best.alpha < mine.best.alpha):
+        if outcome.status != CERTIFIED:
+            continue
         outcomes[label] = outcome
         rows[i] = {key: label, **outcome_row(outcome)}
         rows[i]["seconds"] += before
         if progress is not None:
             progress(rows[i])
-    return True
 
 
 def governing(df: pd.DataFrame, key: str):

@@ -164,8 +164,8 @@ FIRST_WORK = 8.0
 #: mechanisms with the work bounds times this: on the three-span bridge (docs/bridges.md) twice
 #: the bounds alone certified a position the default left, and the second try 2 of 3 stalled.
 RETRY_WORK = 2.0
-#: A study's variant is solved again from its mirror image's state (lamodel.mirror) when that
-#: state's alpha is lower than its own by more than this (relative): the digits tables print.
+#: A study's variant takes its mirror image's state (lamodel.mirror) when that state's alpha
+#: is lower than its own by more than this (relative): the digits tables print.
 MIRROR_GAIN = 1e-6
 #: Once the first certificate's main lane (plan.IF_STALLED) certifies, the lane beside it
 #: may spend this many times the LP work the main lane took: at 4 the dilatancy lane's lower
