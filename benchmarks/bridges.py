@@ -2,7 +2,7 @@
 """A three-span bridge on masonry piers, rolled across: seconds, LP solves and the adequacy
 factor at each load position, and the whole run.
 
-    python benchmarks/bridges.py [--positions K] [--voussoirs N] [--rings R] [--no-passive]
+    python benchmarks/bridges.py [--positions K] [--voussoirs N] [--rings R] [--no-passive] [--workers W]
     python benchmarks/bridges.py --where --voussoirs 20
 
 ``--where``: where the time goes at the first position: without the restraint, with a ring
@@ -13,7 +13,8 @@ the ground (they slide and rock); rigid abutments; a ring 0.5 m thick of R rings
 of N voussoirs each (default 40); backing to 1 m; fill 0.5 m over the crowns with the
 passive restraint (m = 0.33); one 100 kN axle on a 0.3 m patch at 20 positions evenly from
 springing to springing (``--positions K``: the first K of them). LPs only (--starts 0), as
-``lamodel bridge --adequacy`` solves them.
+``lamodel bridge --adequacy`` solves them: W positions at once (``--workers W``, default all
+cores; 1: one after another, each search using the cores for its lanes).
 """
 import argparse
 import sys
@@ -53,6 +54,7 @@ def main():
     p.add_argument("--voussoirs", type=int, default=40)
     p.add_argument("--rings", type=int, default=2)
     p.add_argument("--no-passive", action="store_true")
+    p.add_argument("--workers", type=int, default=None, help="positions solved at once (default: all cores)")
     p.add_argument("--where", action="store_true", help="where the time goes at the first position")
     args = p.parse_args()
     length = 3 * 8.0 + 2 * 1.5
@@ -63,7 +65,7 @@ def main():
     bridge = read_bridge(description(args.voussoirs, args.rings, every[:args.positions]))
     structure = structure_of(bridge, passive=not args.no_passive)
     built = time.perf_counter() - t0
-    df, outcomes = load_case_study(structure, SolveOptions(starts=0))
+    df, outcomes = load_case_study(structure, SolveOptions(starts=0, workers=args.workers))
     rows = [{"position": float(case[2:]), "adequacy": row.alpha_c, "certified": row.certified,
              "lps": lp_solves(outcomes[case]),
              "seconds": row.seconds, "mechanism": mechanism(outcomes[case])}

@@ -200,6 +200,7 @@ def _bridge_arguments(p):
     a("--no-passive", action="store_true", help="leave the fill's passive restraint out")
     a("--adequacy", metavar="FOLDER", help="also solve every load position: FOLDER/adequacy.csv and adequacy.png")
     a("--starts", type=whole(0), default=0, metavar="K", help="Ipopt starts per position with --adequacy (default 0)")
+    a("--workers", type=whole(1), default=None, help="positions solved at once with --adequacy (default: all cores)")
 
 
 def _bridge(args, prog) -> int:
@@ -222,9 +223,16 @@ def _bridge(args, prog) -> int:
          f"restraints), {len(structure.cases)} load positions; picture {picture}")
     if not args.adequacy:
         return EXIT_OK
+    from .bridges import case_positions
     from .bridges.adequacy import adequacy_study, write_adequacy
     from .search.options import SolveOptions
-    table = adequacy_study(bridge, SolveOptions(starts=args.starts), passive=not args.no_passive)
+    where = case_positions(bridge)
+
+    def said(row):  # each position as it ends
+        alpha = f"{row['alpha_c']:.6f}" if row["certified"] else f"none ({row['status']})"
+        _say(f"  x = {where[row['case']]:.6g}: adequacy {alpha}")
+    table = adequacy_study(bridge, SolveOptions(starts=args.starts, workers=args.workers),
+                           passive=not args.no_passive, progress=said)
     files = write_adequacy(bridge, table, args.adequacy)
     _say(table.to_string(index=False))
     _say(f"written: {', '.join(files)}")

@@ -23,6 +23,7 @@ from .output.rows import outcome_row
 from .search.driver import SolveOptions, solve
 from .search.state import CERTIFIED, INTERRUPTED, NOT_CERTIFIED, Run
 from .search.tuning import MIRROR_GAIN, RETRY_WORK
+from .solve_all import solve_all
 from .structure import Structure
 
 #: Reference data shipped with the package (the seed's Table 1).
@@ -72,9 +73,10 @@ VARIANT_COLUMNS = ("alpha_c", "alpha_associative", "certified", "n_sliding", "n_
 
 
 def _variant_study(key, labels, variants, options, progress, same_blocks=False):
-    """Solve every variant; a table (one row each, the least certified alpha marked
-    ``governing``) and the outcomes by label. A stop signal (Ctrl-C, SIGTERM, SIGHUP)
-    ends the study: the variants after the one it stopped have status ``not run``.
+    """Solve every variant (:func:`.solve_all.solve_all`: ``options.workers`` of them at once);
+    a table (one row each, the least certified alpha marked ``governing``) and the outcomes
+    by label. A stop signal (Ctrl-C, SIGTERM, SIGHUP) ends the study: each solve under way
+    keeps its best certified state (``interrupted``), the variants not begun are ``not run``.
 
     ``same_blocks``: the variants differ only in their live loads (load cases, positions
     of a rolling load). A variant the search left uncertified is then solved again with
@@ -86,22 +88,21 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
     (the other variant whose live loads are its own reflected) certified a lower alpha, or
     that certified none, takes the image of that state (:mod:`lamodel.mirror`): mirror
     images get the same alpha."""
-    rows, outcomes = [], {}
-    for label, structure in zip(labels, variants):
-        if rows and rows[-1]["status"] == "interrupted":
-            rows.append({key: label, "alpha_c": np.nan, "alpha_associative": np.nan, "certified": False,
-                         "n_sliding": 0, "n_hinging": 0, "n_open": 0, "seconds": 0.0, "status": "not run"})
-            continue
-        outcome = solve(structure, options or SolveOptions())
-        outcomes[label] = outcome
-        row = {key: label, **outcome_row(outcome)}
-        rows.append(row)
+    rows, outcomes = [None] * len(labels), {}
+
+    def one(i, outcome):
+        outcomes[labels[i]] = outcome
+        rows[i] = {key: labels[i], **outcome_row(outcome)}
         if progress is not None:
-            progress(row)
+            progress(rows[i])
+    solve_all(variants, options, one)
+    rows = [row or {key: label, "alpha_c": np.nan, "alpha_associative": np.nan, "certified": False, "n_sliding": 0,
+                    "n_hinging": 0, "n_open": 0, "seconds": 0.0, "status": "not run"}
+            for label, row in zip(labels, rows)]
     # mirror images first (a state of the same structure reflected), then the second try, and
     # the mirror again for what the second try certified
     for again in (_from_the_mirror, _from_the_others, _from_the_mirror):
-        if same_blocks and not any(r["status"] == "interrupted" for r in rows):
+        if same_blocks and not any(r["status"] in ("interrupted", "not run") for r in rows):
             again(key, labels, variants, options, progress, rows, outcomes)
     df = pd.DataFrame(rows)
     alpha = df["alpha_c"].where(df["certified"].astype(bool))

@@ -318,8 +318,9 @@ def test_picture_draws_point_loads_where_they_act():
 def test_a_signal_during_one_load_case_ends_the_cases(monkeypatch):
     """A stop signal that ends one case's search (its status ``interrupted``) ends the
     study of the cases: the rest are marked ``not run``, and the analysis says so."""
+    import lamodel.solve_all as solve_all
     import lamodel.studies as studies
-    real, calls = studies.solve, []
+    real, calls = solve_all.solve, []
 
     def stopped_first(structure, options):
         outcome = real(structure, options)
@@ -327,9 +328,9 @@ def test_a_signal_during_one_load_case_ends_the_cases(monkeypatch):
         if len(calls) == 1:
             outcome.status = "interrupted"
         return outcome
-    monkeypatch.setattr(studies, "solve", stopped_first)
+    monkeypatch.setattr(solve_all, "solve", stopped_first)
     s = structure_from_json(two_block_cases())
-    study, outcome, extra = studies.governing_study(s, SolveOptions(starts=0))
+    study, outcome, extra = studies.governing_study(s, SolveOptions(starts=0, workers=1))
     assert len(calls) == 1 and study["interrupted"]
     assert study["table"]["status"].tolist() == ["interrupted", "not run"]
     assert extra["case"] == "wind_top"

@@ -336,3 +336,44 @@ def test_sigterm_during_a_library_solve_still_ends_the_program(tmp_path, wall):
     assert p.returncode == -signal.SIGTERM, (p.returncode, stderr[-2000:])
     assert "the program went on" not in stdout
     no_child_survives(kids)
+
+
+THREE_SPANS = {  # searches of 5 to 40 s a position
+    "name": "three_spans", "units": {"length": "m", "force": "kN"},
+    "spans": [{"span": 8.0, "rise": 2.5}] * 3, "piers": [{"height": 5.0, "width": 1.5, "kind": "block"}] * 2,
+    "ring": {"thickness": 0.5, "rings": 2, "voussoirs": 20, "unit_weight": 20.0, "mu": 0.6},
+    "abutments": {"height": 1.5, "width": 1.5}, "backing": {"height": 1.0},
+    "fill": {"depth": 0.5, "unit_weight": 18.0, "phi": 35.0, "passive": 0.33, "spread": 30.0},
+    "load": {"force": 100.0, "patch": 0.3, "positions": [-12, -9, -6, 12]}}
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_stop_signal_ends_positions_solved_side_by_side(tmp_path, sig):
+    """A bridge's positions solved two at once (worker processes): a stop signal sent to the
+    command alone reaches both solves under way, which end with their best certified state
+    (``interrupted``); the positions not begun are ``not run``; the table is written and no
+    worker outlives the run."""
+    bridge, out = tmp_path / "three.json", tmp_path / "adequacy"
+    bridge.write_text(json.dumps(THREE_SPANS))
+    p = start("bridge", bridge, tmp_path / "b.json", "--adequacy", out, "--workers", 2)
+    lines, t = [], time.monotonic()
+    while time.monotonic() - t < 300:  # the first position ended (-9 m): two more are under way
+        lines.append(p.stdout.readline())
+        if lines[-1].startswith("  x = ") or not lines[-1]:
+            break
+    assert lines[-1].startswith("  x = "), (lines, p.stderr.read()[-2000:])
+    kids = descendants(p.pid)
+    assert len(kids) >= 2
+    p.send_signal(sig)
+    t = time.monotonic()
+    stdout, stderr = p.communicate(timeout=120)
+    assert time.monotonic() - t < 30  # the searches end at their next check
+    assert p.returncode == 128 + sig, (p.returncode, stderr[-2000:])
+    assert "Traceback" not in stderr
+    no_child_survives(kids | descendants(p.pid))
+    df = pd.read_csv(out / "adequacy.csv")
+    status = df["status"].tolist()
+    # -12 m under way, -9 m done, 12 m not begun; -6 m under way unless the signal came before it was handed out
+    assert status[:2] == ["interrupted", "certified"] and status[2] in ("interrupted", "not run"), status
+    assert status[3] == "not run", status
+    assert not df.loc[df["status"] == "not run", "certified"].any()

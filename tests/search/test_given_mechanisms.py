@@ -75,6 +75,7 @@ def test_a_mechanism_goes_to_the_canonical_order_and_back():
 
 
 def test_a_study_solves_an_uncertified_variant_again_from_the_others(monkeypatch):
+    import lamodel.solve_all
     real, calls = studies.solve, []
 
     def solve_failing_once(structure, options=None, mechanisms=(), work_scale=1.0):
@@ -85,7 +86,9 @@ def test_a_study_solves_an_uncertified_variant_again_from_the_others(monkeypatch
         return out
 
     monkeypatch.setattr(studies, "solve", solve_failing_once)
-    df, outcomes = studies.load_case_study(stack(), LP_ONLY)
+    monkeypatch.setattr(lamodel.solve_all, "solve", solve_failing_once)
+    # (one variant after another, in this process: the patched solve runs here)
+    df, outcomes = studies.load_case_study(stack(), dataclasses.replace(LP_ONLY, workers=1))
     # the second pass: the two certified variants' mechanisms, and more work
     assert calls == [(0, 1.0), (0, 1.0), (0, 1.0), (2, RETRY_WORK)] and RETRY_WORK > 1
     assert df["certified"].all() and outcomes["top"].status == CERTIFIED
@@ -100,3 +103,28 @@ def test_more_work_is_more_work_bound():
     assert two.whole_bound() == 2 * one.whole_bound() == 2 * p.work_bound()
     assert two.first_bound == 2 * one.first_bound and two.rule.total == 2 * one.rule.total
     assert Budget.for_solve(time_limit=5.0, work_scale=2.0).rule is None   # a time limit has no work bounds
+
+
+def test_variants_side_by_side_give_what_one_after_another_gives():
+    """A study's variants solved two at once in worker processes (each search on one core):
+    the same multipliers, statuses and mechanisms as one after another in this process, in
+    the variants' order; each outcome re-checked by the independent oracle."""
+    import json
+
+    from conftest import INSTANCES
+    from lamodel.bridges import read_bridge
+    from lamodel.bridges.adequacy import structure_of
+    from lamodel.solve_all import solve_all
+    spec = json.loads((INSTANCES / "bridge_demo.json").read_text())
+    spec["load"]["positions"] = [-2.0, 0.4, 2.0]
+    for structure in (stack(), structure_of(read_bridge(spec))):
+        variants = [case_structure(structure, name) for name in structure.cases]
+        seen = []
+        side = solve_all(variants, dataclasses.replace(LP_ONLY, workers=2), lambda i, o: seen.append(i))
+        one = solve_all(variants, dataclasses.replace(LP_ONLY, workers=1))
+        assert sorted(seen) == list(range(len(variants)))
+        for v, a, b in zip(variants, side, one):
+            assert a.structure.name == v.name and a.status == b.status == CERTIFIED
+            assert a.best.alpha == pytest.approx(b.best.alpha, rel=1e-9)
+            assert np.array_equal(a.best.xi > 0, b.best.xi > 0)
+            check_state(v, a.best)

@@ -1,0 +1,107 @@
+"""The first pass of a load-case or rolling study: every variant solved, one after another
+in this process or side by side in local worker processes, with the same outcomes either
+way (a solve's answer does not depend on its number of workers: :mod:`.search.gap.lanes`).
+
+``options.workers`` (``--workers``; all cores when not given) is the number of variants
+solved at once; each of them then runs its search on one core, as a parametric study's
+variants do (no pools inside pools). With a Dask ``scheduler`` the variants are solved one
+after another, the cluster running each one's GA and Ipopt starts.
+
+A stop signal (Ctrl-C, SIGTERM, SIGHUP) ends the pass as it ends one solve: each solve under
+way ends at its next check with its best certified state (status ``interrupted``); the
+variants not begun are not run (None). In worker processes the signal reaches every solve
+under way from here, whatever sent it to this process, again each second until they have
+all ended: a worker that took it before its solve began still ends.
+"""
+from __future__ import annotations
+
+import os
+import signal
+import threading
+from concurrent.futures import FIRST_COMPLETED, wait
+from dataclasses import replace
+
+from .search.driver import SolveOptions, solve
+from .search.state import INTERRUPTED
+from .search.workers import count, processes
+
+#: Seconds between two deliveries of the stop to the workers still solving.
+RESEND = 1.0
+
+
+def solve_all(variants, options: SolveOptions | None = None, on_outcome=None) -> list:
+    """The outcome of every variant, in their order (None: not run, after a stop).
+    ``on_outcome(i, outcome)`` is called in this process as each one ends."""
+    opt = options or SolveOptions()
+    workers = min(count(opt.workers), len(variants))
+    if workers <= 1 or opt.scheduler is not None:
+        return _one_after_another(variants, opt, on_outcome)
+    return _side_by_side(variants, replace(opt, workers=1, ga_workers=None, progress=False), workers, on_outcome)
+
+
+def _one_after_another(variants, opt, on_outcome):
+    outcomes = [None] * len(variants)
+    for i, variant in enumerate(variants):
+        outcomes[i] = solve(variant, opt)
+        if on_outcome is not None:
+            on_outcome(i, outcomes[i])
+        if outcomes[i].status == INTERRUPTED:
+            break
+    return outcomes
+
+
+def _side_by_side(variants, opt, workers, on_outcome):
+    from .signals import catch_sigint, restore_sigint, stop_signal
+    outcomes, pending, running = [None] * len(variants), list(range(len(variants)))[::-1], {}
+    stop = threading.Event()
+    caught = catch_sigint(stop.set)
+    pool = processes(workers, _worker_start, start="forkserver", preload=("lamodel.search.driver",))
+    try:
+        while pending or running:
+            if stop.is_set() or stop_signal() is not None:
+                stop.set()
+                pending.clear()
+                _stop_workers(pool)
+            # no more variants in flight than workers: each one submitted is being solved
+            while pending and len(running) < workers:
+                i = pending.pop()
+                running[pool.submit(_solve_here, variants[i], opt)] = i
+            done, _ = wait(running, timeout=RESEND if stop.is_set() else 0.2, return_when=FIRST_COMPLETED)
+            for fut in done:
+                i = running.pop(fut)
+                outcomes[i] = fut.result()  # a solve that raised raises here, as in one process
+                if on_outcome is not None:
+                    on_outcome(i, outcomes[i])
+    except BaseException:
+        from .process import kill_quietly
+        kill_quietly(list((getattr(pool, "_processes", None) or {}).values()))
+        raise
+    finally:
+        pool.shutdown(wait=False, cancel_futures=True)
+        restore_sigint(caught)
+    return outcomes
+
+
+def _stop_workers(pool):
+    for p in list((getattr(pool, "_processes", None) or {}).values()):
+        try:
+            os.kill(p.pid, signal.SIGTERM)
+        except (OSError, AttributeError):
+            pass
+
+
+def _worker_start():
+    """A worker ends with this process, and a stop signal that reaches it between two
+    solves is remembered, never fatal (its next solve is never begun: see above)."""
+    from .process import end_with_parent
+    from .signals import catch_sigint
+    end_with_parent()
+    catch_sigint(_remember)
+
+
+def _remember():
+    pass
+
+
+def _solve_here(variant, opt):
+    return solve(variant, opt)
