@@ -77,7 +77,8 @@ def _solve_arguments(p):
       "states, or the time limit). Default: up to 2, only when a start takes about a second; 0: LPs only")
     _where(p, "W threads for the GA's evaluations and the continuation lanes (the same answer for any W) and W "
            "processes for the Ipopt starts. Default: the GA's evaluations one after the other, warm; all cores for "
-           "the lanes and the Ipopt starts",
+           "the lanes and the Ipopt starts. With load cases or a rolling load: W of them solved at once, each "
+           "search on one core",
            "run the GA's evaluations and the Ipopt starts on this dask.distributed scheduler instead")
     a("--time-limit", type=seconds, help="seconds for the whole search")
     a("--pop-size", type=whole(2), help=f"GA population (default {o.pop_size}; {SEED_POP_SIZE} for --method seed)")
