@@ -186,8 +186,8 @@ def _build(args, prog) -> int:
     with warnings.catch_warnings():  # the reader's warnings (unknown fields, near-joints): one line each, as solve's
         warnings.showwarning = lambda message, *_, **__: print(f"{prog}: warning: {message}", file=sys.stderr)
         line = build_summary3d(args.geometry, **input_options(args))  # in space: the contacts summary; planar: None
-    check_build_options(args, spatial=line is not None)
-    print(line or build_dat(args.geometry, args.output, args.name))
+        check_build_options(args, spatial=line is not None)
+        print(line or build_dat(args.geometry, args.output, args.name))
     return EXIT_OK
 
 

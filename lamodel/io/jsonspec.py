@@ -116,6 +116,8 @@ def _vector2(value, where, what):
 def structure_from_spec(spec: dict, where: str, name: str | None = None, tolerance: float | None = None) -> Structure:
     """A validated :class:`Structure` from a parsed planar spec; ``where`` (the file) starts
     every message. ``name`` and ``tolerance`` as :func:`structure_from_json`."""
+    if "blocks" not in spec:  # no blocks (a bridge description, say): that error, without field warnings first
+        blocks_of(spec, where)
     warn_unknown(where, spec.keys(), TOP_FIELDS, "top-level")
     dimension = spec.get("dimension", 2)
     if dimension != 2 or isinstance(dimension, bool):

@@ -196,8 +196,10 @@ def test_the_command_builds_a_structure_and_a_picture_and_refuses_bad_input(tmp_
     run = _cli("bridge", "bad.json", cwd=tmp_path)
     assert run.returncode == 2
     assert "'rise'" in run.stderr and len(run.stderr.strip().splitlines()) == 1 and "Traceback" not in run.stderr
-    run = _cli("solve", "b.json", "--out", "out", cwd=tmp_path)   # a description is not blocks
-    assert run.returncode == 2 and "a bridge description, not blocks" in run.stderr
+    for command in (("solve", "b.json", "--out", "out"), ("build", "b.json")):  # a description is not blocks:
+        run = _cli(*command, cwd=tmp_path)                                       # one line, no field warnings
+        assert run.returncode == 2 and "a bridge description, not blocks" in run.stderr
+        assert len(run.stderr.strip().splitlines()) == 1, run.stderr
 
 
 def test_skew_is_recorded_not_modelled():
