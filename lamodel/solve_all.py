@@ -12,9 +12,13 @@ way ends at its next check with its best certified state (status ``interrupted``
 variants not begun are not run (None). In worker processes the signal reaches every solve
 under way from here, whatever sent it to this process, again each second until they have
 all ended: a worker that took it before its solve began still ends.
+
+A worker process that dies (killed, out of memory) takes the solves in flight with it:
+they are solved again on new workers, once; a second death is an error naming them.
 """
 from __future__ import annotations
 
+import logging
 import os
 import signal
 import threading
@@ -25,8 +29,12 @@ from .search.driver import SolveOptions, solve
 from .search.state import INTERRUPTED
 from .search.workers import count, processes
 
+log = logging.getLogger(__name__)
+
 #: Seconds between two deliveries of the stop to the workers still solving.
 RESEND = 1.0
+#: Times a variant whose worker process died (killed, out of memory) is solved again.
+RETRIES = 1
 
 
 def solve_all(variants, options: SolveOptions | None = None, on_outcome=None) -> list:
@@ -51,11 +59,15 @@ def _one_after_another(variants, opt, on_outcome):
 
 
 def _side_by_side(variants, opt, workers, on_outcome):
+    from concurrent.futures.process import BrokenProcessPool
+
+    from .process import kill_quietly
     from .signals import catch_sigint, restore_sigint, stop_signal
     outcomes, pending, running = [None] * len(variants), list(range(len(variants)))[::-1], {}
+    tries = [0] * len(variants)
     stop = threading.Event()
     caught = catch_sigint(stop.set)
-    pool = processes(workers, _worker_start, start="forkserver", preload=("lamodel.search.driver",))
+    pool = _pool(workers)
     try:
         while pending or running:
             if stop.is_set() or stop_signal() is not None:
@@ -65,21 +77,44 @@ def _side_by_side(variants, opt, workers, on_outcome):
             # no more variants in flight than workers: each one submitted is being solved
             while pending and len(running) < workers:
                 i = pending.pop()
+                tries[i] += 1
                 running[pool.submit(_solve_here, variants[i], opt)] = i
             done, _ = wait(running, timeout=RESEND if stop.is_set() else 0.2, return_when=FIRST_COMPLETED)
+            broken = False
             for fut in done:
                 i = running.pop(fut)
-                outcomes[i] = fut.result()  # a solve that raised raises here, as in one process
+                try:
+                    outcomes[i] = fut.result()  # a solve that raised raises here, as in one process
+                except BrokenProcessPool:
+                    broken = True
+                    running[fut] = i
+                    continue
                 if on_outcome is not None:
                     on_outcome(i, outcomes[i])
+            if broken:  # a worker died (killed, out of memory): the pool fails every solve in flight
+                lost = sorted(running.values())
+                running.clear()
+                kill_quietly(list((getattr(pool, "_processes", None) or {}).values()))
+                pool.shutdown(wait=False, cancel_futures=True)
+                if not stop.is_set():
+                    twice = [variants[i].name for i in lost if tries[i] > RETRIES]
+                    if twice:
+                        raise RuntimeError(f"the worker process solving {', '.join(twice)} died "
+                                           f"{RETRIES + 1} times (out of memory?); try --workers 1")
+                    log.warning("a worker process died; solving %s again", ", ".join(variants[i].name for i in lost))
+                    pending.extend(lost[::-1])  # solved again first, on a new pool
+                    pool = _pool(workers)
     except BaseException:
-        from .process import kill_quietly
         kill_quietly(list((getattr(pool, "_processes", None) or {}).values()))
         raise
     finally:
         pool.shutdown(wait=False, cancel_futures=True)
         restore_sigint(caught)
     return outcomes
+
+
+def _pool(workers):
+    return processes(workers, _worker_start, start="forkserver", preload=("lamodel.search.driver",))
 
 
 def _stop_workers(pool):

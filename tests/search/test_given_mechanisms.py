@@ -128,3 +128,49 @@ def test_variants_side_by_side_give_what_one_after_another_gives():
             assert a.best.alpha == pytest.approx(b.best.alpha, rel=1e-9)
             assert np.array_equal(a.best.xi > 0, b.best.xi > 0)
             check_state(v, a.best)
+
+
+def test_a_worker_that_dies_costs_its_variants_a_second_solve_not_the_study(caplog):
+    """kill -9 of a worker process in the middle of a study side by side: the variants it
+    took with it are solved again on new workers; every outcome is certified, as one after
+    another."""
+    import json
+    import os
+    import signal
+    from pathlib import Path
+
+    from conftest import INSTANCES
+    from lamodel.bridges import read_bridge
+    from lamodel.bridges.adequacy import structure_of
+    from lamodel.solve_all import solve_all
+
+    def descendants(pid):
+        found, todo = set(), [pid]
+        while todo:
+            p = todo.pop()
+            try:
+                kids = [int(k) for t in os.listdir(f"/proc/{p}/task")
+                        for k in Path(f"/proc/{p}/task/{t}/children").read_text().split()]
+            except OSError:
+                continue
+            found.update(kids)
+            todo.extend(kids)
+        return found
+
+    spec = json.loads((INSTANCES / "bridge_demo.json").read_text())
+    spec["load"]["positions"] = [-2.4, -1.2, 0.4, 1.6, 2.8]
+    s = structure_of(read_bridge(spec))
+    variants = [case_structure(s, name) for name in s.cases]
+    killed = []
+
+    def kill_one(i, outcome):
+        if not killed:  # the workers are the forkserver's children (the leaves of this process's tree)
+            leaves = [p for p in descendants(os.getpid()) if not descendants(p)]
+            os.kill(max(leaves), signal.SIGKILL)
+            killed.append(i)
+    side = solve_all(variants, dataclasses.replace(LP_ONLY, workers=2), kill_one)
+    one = solve_all(variants, dataclasses.replace(LP_ONLY, workers=1))
+    assert killed and "a worker process died; solving" in caplog.text
+    for a, b in zip(side, one):
+        assert a.status == b.status == CERTIFIED
+        assert a.best.alpha == pytest.approx(b.best.alpha, rel=1e-9)
