@@ -105,3 +105,25 @@ def _no_process_outlives_a_failed_test(request):
             except psutil.Error:
                 pass
         psutil.wait_procs(left, timeout=5)
+
+
+def descendants(pid) -> set:
+    """Every process below ``pid`` (psutil when installed, else /proc)."""
+    try:
+        import psutil
+        return {p.pid for p in psutil.Process(pid).children(recursive=True)}
+    except ImportError:
+        pass
+    except Exception:  # the process is gone
+        return set()
+    found, todo = set(), [pid]
+    while todo:
+        p = todo.pop()
+        try:
+            kids = [int(k) for t in os.listdir(f"/proc/{p}/task")
+                    for k in Path(f"/proc/{p}/task/{t}/children").read_text().split()]
+        except OSError:
+            continue
+        found.update(kids)
+        todo.extend(kids)
+    return found

@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import INSTANCES, ROOT
+from conftest import INSTANCES, ROOT, descendants
 from oracle import check_folder
 
 pytestmark = pytest.mark.slow
@@ -30,28 +30,6 @@ def start(*args, cwd=ROOT):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     return subprocess.Popen([sys.executable, "-m", "lamodel.cli", *map(str, args)], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env, cwd=cwd, preexec_fn=_as_a_terminal_starts_it)
-
-
-def descendants(pid) -> set:
-    """Every process below ``pid`` (psutil when installed, else /proc)."""
-    try:
-        import psutil
-        return {p.pid for p in psutil.Process(pid).children(recursive=True)}
-    except ImportError:
-        pass
-    except Exception:  # the process is gone
-        return set()
-    found, todo = set(), [pid]
-    while todo:
-        p = todo.pop()
-        try:
-            kids = [int(k) for t in os.listdir(f"/proc/{p}/task")
-                    for k in Path(f"/proc/{p}/task/{t}/children").read_text().split()]
-        except OSError:
-            continue
-        found.update(kids)
-        todo.extend(kids)
-    return found
 
 
 def alive(pids) -> list:

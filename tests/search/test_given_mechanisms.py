@@ -137,25 +137,11 @@ def test_a_worker_that_dies_costs_its_variants_a_second_solve_not_the_study(capl
     import json
     import os
     import signal
-    from pathlib import Path
 
-    from conftest import INSTANCES
+    from conftest import INSTANCES, descendants
     from lamodel.bridges import read_bridge
     from lamodel.bridges.adequacy import structure_of
     from lamodel.solve_all import solve_all
-
-    def descendants(pid):
-        found, todo = set(), [pid]
-        while todo:
-            p = todo.pop()
-            try:
-                kids = [int(k) for t in os.listdir(f"/proc/{p}/task")
-                        for k in Path(f"/proc/{p}/task/{t}/children").read_text().split()]
-            except OSError:
-                continue
-            found.update(kids)
-            todo.extend(kids)
-        return found
 
     spec = json.loads((INSTANCES / "bridge_demo.json").read_text())
     spec["load"]["positions"] = [-2.4, -1.2, 0.4, 1.6, 2.8]
