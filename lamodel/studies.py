@@ -206,8 +206,10 @@ def governing_study(structure: Structure, options: SolveOptions | None = None, p
     or "position"), a ``title`` and the ``table``; the governing outcome is the least
     certified one (the first when none is certified); the summary columns name it
     (``case`` or ``position``) and say whether it governs. ``progress(row)`` after each
-    solve; a stop signal ends it (``study["interrupted"]``, the rest ``not run``)."""
+    solve; a stop signal ends it (``study["interrupted"]``, the rest ``not run``);
+    ``study["seconds"]``: the whole study's."""
     from dataclasses import replace
+    t0 = time.perf_counter()
     quiet = replace(options or SolveOptions(), progress=False)
     if structure.cases:
         df, outcomes = load_case_study(structure, quiet, progress=progress)
@@ -217,7 +219,8 @@ def governing_study(structure: Structure, options: SolveOptions | None = None, p
         key, title = "position", f"Rolling load ({len(df)} positions)"
     label = governing(df, key)
     chosen = label if label is not None else next(iter(outcomes))
-    study = {"key": key, "title": title, "table": df, "interrupted": bool((df["status"] == "interrupted").any())}
+    study = {"key": key, "title": title, "table": df, "interrupted": bool((df["status"] == "interrupted").any()),
+             "seconds": time.perf_counter() - t0}
     return study, outcomes[chosen], {key: chosen, "governing": label is not None}
 
 

@@ -140,6 +140,9 @@ def test_load_cases_give_one_alpha_each_and_the_governing_one(tmp_path):
                                                 "block_equilibrium", "contact_yield", "contact_complementarity")
     assert check_folder(out) == pytest.approx(0.625)   # with the moments of blocks.csv
     assert "wind_low" in r.stdout and "hinge at the right end of joint ground|b1" in r.stdout
+    last = r.stdout.strip().splitlines()[-1]  # the governing case, and the whole study's time
+    assert last.startswith("stack: alpha = 0.625000 (certified collapse state;"), last
+    assert "case 'wind_top' governs) in " in last and last.endswith(" s for 2 cases")
 
     # the report: one file, parsable, with the picture as SVG and the tables
     text = (tmp_path / "r.html").read_text()
