@@ -60,10 +60,10 @@ def mechanism(outcome) -> str:
 
 def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder) -> list:
     """adequacy.csv and adequacy.png (the factor against the position) in ``folder``."""
+    from ..io.files import write_csv
     from ..output.figures import rolling_figure, save_open_figure
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    table.to_csv(folder / "adequacy.csv", index=False)
+    write_csv(table, folder / "adequacy.csv")  # atomically: a reader never sees half a table
     plot = table.rename(columns={"adequacy": "alpha_c"})
     fig = rolling_figure(plot, f"{bridge.name}: adequacy factor against the load position",
                          bridge.units.get("length", ""))

@@ -334,7 +334,8 @@ def structure_to_json(source, path=None) -> dict:
         for k, body in enumerate(bodies):
             lines.append("    " + json.dumps(body) + ("," if k + 1 < len(bodies) else ""))
         lines += ["  ]", "}"]
-        Path(path).write_text("\n".join(lines) + "\n")
+        from .files import atomic_write_text
+        atomic_write_text(path, "\n".join(lines) + "\n")  # never half a file, whatever stops the run
     return spec
 
 
