@@ -19,6 +19,7 @@ they are solved again on new workers, once; a second death is an error naming th
 from __future__ import annotations
 
 import logging
+import multiprocessing
 import os
 import signal
 import threading
@@ -42,7 +43,8 @@ def solve_all(variants, options: SolveOptions | None = None, on_outcome=None) ->
     ``on_outcome(i, outcome)`` is called in this process as each one ends."""
     opt = options or SolveOptions()
     workers = min(count(opt.workers), len(variants))
-    if workers <= 1 or opt.scheduler is not None:
+    # (a daemonic process, a multiprocessing pool's worker, may not start processes)
+    if workers <= 1 or opt.scheduler is not None or multiprocessing.current_process().daemon:
         return _one_after_another(variants, opt, on_outcome)
     return _side_by_side(variants, replace(opt, workers=1, ga_workers=None, progress=False), workers, on_outcome)
 
