@@ -225,16 +225,16 @@ def _bridge(args, prog) -> int:
     if not args.adequacy:
         return EXIT_OK
     from .bridges import case_positions
-    from .bridges.adequacy import adequacy_study, write_adequacy
+    from .bridges.adequacy import adequacy_run, write_adequacy
     from .search.options import SolveOptions
     where = case_positions(bridge)
 
     def said(row):  # each position as it ends
         alpha = f"{row['alpha_c']:.6f}" if row["certified"] else f"none ({row['status']})"
         _say(f"  x = {where[row['case']]:.6g}: adequacy {alpha}")
-    table = adequacy_study(bridge, SolveOptions(starts=args.starts, workers=args.workers),
-                           passive=not args.no_passive, progress=said)
-    files = write_adequacy(bridge, table, args.adequacy)
+    table, outcomes = adequacy_run(bridge, SolveOptions(starts=args.starts, workers=args.workers),
+                                   passive=not args.no_passive, progress=said)
+    files = write_adequacy(bridge, table, args.adequacy, outcomes, passive=not args.no_passive)
     _say(table.to_string(index=False))
     _say(f"written: {', '.join(files)}")
     return EXIT_OK if table["certified"].all() else EXIT_NOT_CERTIFIED

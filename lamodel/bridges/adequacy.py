@@ -28,13 +28,18 @@ def adequacy_study(bridge: Bridge, options: SolveOptions | None = None, passive:
                    progress=None) -> pd.DataFrame:
     """One row per position: the adequacy factor (alpha_c of the axle group), the collapse
     load per axle (alpha_c times the axle's force), whether certified; the least governs."""
+    return adequacy_run(bridge, options, passive, progress)[0]
+
+
+def adequacy_run(bridge: Bridge, options: SolveOptions | None = None, passive: bool = True, progress=None):
+    """:func:`adequacy_study`'s table, and the outcomes by position (the solves' own)."""
     df, outcomes = load_case_study(structure_of(bridge, passive), options, progress)
     where = case_positions(bridge)
     out = pd.DataFrame({"position": df["case"].map(where), "adequacy": df["alpha_c"],
                         "collapse_load": df["alpha_c"] * bridge.force, "certified": df["certified"],
                         "status": df["status"], "governing": df["governing"],
                         "mechanism": [mechanism(outcomes.get(c)) for c in df["case"]], "seconds": df["seconds"]})
-    return out[list(COLUMNS)]
+    return out[list(COLUMNS)], {where[c]: o for c, o in outcomes.items()}
 
 
 def mechanism(outcome) -> str:
@@ -58,8 +63,10 @@ def mechanism(outcome) -> str:
     return ", ".join(words)
 
 
-def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder) -> list:
-    """adequacy.csv and adequacy.png (the factor against the position) in ``folder``."""
+def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder, outcomes=None, passive: bool = True) -> list:
+    """adequacy.csv and adequacy.png (the factor against the position) in ``folder``; with
+    the ``outcomes`` by position (:func:`adequacy_run`), mechanism.png: the governing
+    position's collapse mechanism drawn with the fill (:func:`.picture.plot_governing`)."""
     from ..io.files import write_csv
     from ..output.figures import rolling_figure, save_open_figure
     folder = Path(folder)
@@ -68,4 +75,10 @@ def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder) -> list:
     fig = rolling_figure(plot, f"{bridge.name}: adequacy factor against the load position",
                          bridge.units.get("length", ""))
     fig.axes[0].set_ylabel("adequacy factor (collapse multiplier)")
-    return [str(folder / "adequacy.csv"), save_open_figure(fig, folder / "adequacy.png")]
+    files = [str(folder / "adequacy.csv"), save_open_figure(fig, folder / "adequacy.png")]
+    governing = table.loc[table["governing"].astype(bool), "position"]
+    outcome = None if outcomes is None or governing.empty else outcomes.get(governing.iloc[0])
+    if outcome is not None and outcome.best is not None:
+        from .picture import plot_governing
+        files.append(plot_governing(bridge, outcome, folder / "mechanism.png", governing.iloc[0], passive))
+    return files

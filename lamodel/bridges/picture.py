@@ -1,9 +1,11 @@
-"""The picture of a bridge as built, before any solve: the rings' voussoirs, the
-abutments and piers, the fill up to the road, the passive restraints and one axle position with its
-dispersal through the fill (matplotlib, Agg)."""
+"""The pictures of a bridge (matplotlib, Agg): as built, before any solve (the rings'
+voussoirs, the abutments and piers, the fill up to the road, the passive restraints and one
+axle position with its dispersal through the fill), and its governing collapse mechanism
+drawn with the fill (:func:`plot_governing`)."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -19,11 +21,7 @@ def draw_bridge(ax, bridge: Bridge, lead: float | None = None, passive: bool = T
     way through the description's positions)."""
     from matplotlib.patches import Polygon
     blocks = deck_blocks(bridge)
-    bed = deck_bed(bridge)
-    ext = np.array([p for _, p, _ in bed] + [bed[-1][2]])
-    feet = np.vstack([b["vertices"] for b in blocks["foundations"] if not b["id"].startswith("ground")])
-    left, right = feet[:, 0].min(), feet[:, 0].max()
-    fill = np.vstack([[[left, ext[0, 1]]], ext, [[right, ext[-1, 1]]], [[right, bridge.road], [left, bridge.road]]])
+    ext, fill = _fill(bridge, blocks)
     ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", label="fill"))
     for b in blocks["voussoirs"]:
         ax.add_patch(Polygon(b["vertices"], closed=True, facecolor="#d9a066", edgecolor="#5b3a1a", lw=0.6))
@@ -61,3 +59,61 @@ def draw_bridge(ax, bridge: Bridge, lead: float | None = None, passive: bool = T
 def plot_bridge(bridge: Bridge, path, passive: bool = True) -> str:
     """The picture of the bridge as built, written to ``path`` (PNG, SVG, PDF)."""
     return save_figure(path, lambda fig: draw_bridge(fig.add_subplot(111), bridge, passive=passive), size=(8.0, 4.0))
+
+
+def _fill(bridge: Bridge, blocks):
+    """(the extrados under the fill, the fill's outline up to the road)."""
+    bed = deck_bed(bridge)
+    ext = np.array([p for _, p, _ in bed] + [bed[-1][2]])
+    feet = np.vstack([b["vertices"] for b in blocks["foundations"] if not b["id"].startswith("ground")])
+    left, right = feet[:, 0].min(), feet[:, 0].max()
+    return ext, np.vstack([[[left, ext[0, 1]]], ext, [[right, ext[-1, 1]]], [[right, bridge.road],
+                                                                             [left, bridge.road]]])
+
+
+def plot_governing(bridge: Bridge, outcome, path, position: float, passive: bool = True) -> str:
+    """The governing collapse mechanism drawn with the fill: the fill as built (it does not
+    move: it is forces on the ring), the blocks at rest and displaced with their hinges,
+    slides, loads and line of thrust (:func:`lamodel.output.plot.plot_mechanism`), and the
+    passive restraints the collapse state mobilises to their capacity (blue arrows; the
+    others pale). Written to ``path``; returns it."""
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, Polygon
+
+    from ..io.files import atomic_write
+    from ..output.modes import modes_from_flow
+    from ..output.plot import plot_mechanism
+    s, best = outcome.structure, outcome.best
+    modes = modes_from_flow(s, best.xi)
+    fig, ax = plt.subplots(figsize=(10, 5))
+    try:
+        _, fill = _fill(bridge, deck_blocks(bridge))
+        ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", zorder=0))
+        ax.plot(fill[-2:, 0], fill[-2:, 1], color="black", lw=1.5, zorder=0)
+        plot_mechanism(s, best.u.reshape(-1, 3), modes=modes, alpha=best.alpha, certified=True, ax=ax, path=None,
+                       thrust=(best.N, best.M),
+                       title=f"{bridge.name}: governing mechanism, axle at x = {position:g} "
+                             f"(adequacy {best.alpha:.4f})")
+        held = [r for r in (restraints(bridge) if passive else [])]
+        joints = s.n_contacts - getattr(s, "restraints", 0)
+        if held and len(held) == s.restraints:
+            size = min(part.span for part, _ in layout(bridge))
+            for r, mode in zip(held, modes[joints:]):
+                full = "crushing" in mode   # the restraint at its capacity
+                x, y = r["at"]
+                ax.annotate("", xy=(x, y), xytext=(x - 0.06 * size * r["direction"][0], y),
+                            arrowprops=dict(arrowstyle="->", color="#2e86c1" if full else "#aed6f1",
+                                            lw=1.4 if full else 0.6), zorder=6)
+            handles, labels = ax.get_legend_handles_labels()
+            extra = [Patch(facecolor="#f3e5c0", label="fill (forces on the ring)"),
+                     Line2D([], [], color="#2e86c1", lw=1.4, label="passive restraint at capacity")]
+            legend = ax.get_legend()
+            ax.legend(handles=[*(legend.legend_handles if legend is not None else []), *extra],
+                      loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize="small",
+                      framealpha=0.8)
+        fmt = Path(str(path)).suffix.lstrip(".").lower() or "png"
+        atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight"))
+    finally:
+        plt.close(fig)
+    return str(path)

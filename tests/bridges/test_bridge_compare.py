@@ -63,3 +63,23 @@ def test_other_positions_and_bad_tables_are_said(runs, capsys, tmp_path):
     other.drop(columns="adequacy").to_csv(tmp_path / "bad" / "adequacy.csv", index=False)
     code, (_, err) = compare(capsys, runs["with"], tmp_path / "bad")
     assert code == 2 and "no column 'adequacy'" in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_governing_mechanism_is_drawn_with_the_fill(tmp_path):
+    """With the outcomes, the adequacy folder gets mechanism.png: the governing position's
+    certified mechanism over the fill, the restraints at their capacity marked."""
+    from matplotlib.image import imread
+
+    from lamodel.bridges.adequacy import adequacy_run
+    b = read_bridge(BRIDGE)
+    table, outcomes = adequacy_run(b, SolveOptions(starts=0, progress=False))
+    assert sorted(outcomes) == sorted(table["position"])
+    files = write_adequacy(b, table, tmp_path / "a", outcomes)
+    assert files[-1] == str(tmp_path / "a" / "mechanism.png")
+    picture = imread(files[-1])
+    assert picture.shape[0] > 300 and picture.shape[1] > 600
+    governing = table.loc[table["governing"], "position"].iloc[0]
+    assert outcomes[governing].best.alpha == pytest.approx(table["adequacy"].min(), rel=1e-12)
+    # the fill's colour is in the picture (it is drawn), and without outcomes no picture is made
+    assert (abs(picture[..., :3] - [0xf3 / 255, 0xe5 / 255, 0xc0 / 255]).max(axis=-1) < 0.02).mean() > 0.02
+    assert not any(f.endswith("mechanism.png") for f in write_adequacy(b, table, tmp_path / "b"))
