@@ -199,7 +199,8 @@ def _bridge_arguments(p):
     a("output", metavar="OUT.json", nargs="?", help="the block structure for lamodel solve (default: next to the "
       "description, <name>_blocks.json); its picture as built beside it (.png)")
     a("--no-passive", action="store_true", help="leave the fill's passive restraint out")
-    a("--adequacy", metavar="FOLDER", help="also solve every load position: FOLDER/adequacy.csv and adequacy.png")
+    a("--adequacy", metavar="FOLDER", help="also solve every load position: FOLDER/adequacy.csv, adequacy.png, "
+      "mechanism.png (the governing mechanism with the fill) and report.html")
     a("--starts", type=whole(0), default=0, metavar="K", help="Ipopt starts per position with --adequacy (default 0)")
     a("--workers", type=whole(1), default=None, help="positions solved at once with --adequacy (default: all cores)")
 
@@ -235,6 +236,11 @@ def _bridge(args, prog) -> int:
     table, outcomes = adequacy_run(bridge, SolveOptions(starts=args.starts, workers=args.workers),
                                    passive=not args.no_passive, progress=said)
     files = write_adequacy(bridge, table, args.adequacy, outcomes, passive=not args.no_passive)
+    from .bridges.report import write_bridge_report
+    files.append(write_bridge_report(Path(args.adequacy) / "report.html", bridge, table, outcomes,
+                                     Path(args.bridge).read_text(encoding="utf-8"),
+                                     " ".join([prog.split()[0], *sys.argv[1:]]),
+                                     passive=not args.no_passive))
     _say(table.to_string(index=False))
     _say(f"written: {', '.join(files)}")
     return EXIT_OK if table["certified"].all() else EXIT_NOT_CERTIFIED

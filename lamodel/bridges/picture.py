@@ -72,48 +72,52 @@ def _fill(bridge: Bridge, blocks):
 
 
 def plot_governing(bridge: Bridge, outcome, path, position: float, passive: bool = True) -> str:
-    """The governing collapse mechanism drawn with the fill: the fill as built (it does not
-    move: it is forces on the ring), the blocks at rest and displaced with their hinges,
-    slides, loads and line of thrust (:func:`lamodel.output.plot.plot_mechanism`), and the
-    passive restraints the collapse state mobilises to their capacity (blue arrows; the
-    others pale). Written to ``path``; returns it."""
+    """The governing collapse mechanism drawn with the fill (:func:`draw_governing`),
+    written to ``path``; returns it."""
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch, Polygon
 
     from ..io.files import atomic_write
-    from ..output.modes import modes_from_flow
-    from ..output.plot import plot_mechanism
-    s, best = outcome.structure, outcome.best
-    modes = modes_from_flow(s, best.xi)
     fig, ax = plt.subplots(figsize=(10, 5))
     try:
-        _, fill = _fill(bridge, deck_blocks(bridge))
-        ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", zorder=0))
-        ax.plot(fill[-2:, 0], fill[-2:, 1], color="black", lw=1.5, zorder=0)
-        plot_mechanism(s, best.u.reshape(-1, 3), modes=modes, alpha=best.alpha, certified=True, ax=ax, path=None,
-                       thrust=(best.N, best.M),
-                       title=f"{bridge.name}: governing mechanism, axle at x = {position:g} "
-                             f"(adequacy {best.alpha:.4f})")
-        held = [r for r in (restraints(bridge) if passive else [])]
-        joints = s.n_contacts - getattr(s, "restraints", 0)
-        if held and len(held) == s.restraints:
-            size = min(part.span for part, _ in layout(bridge))
-            for r, mode in zip(held, modes[joints:]):
-                full = "crushing" in mode   # the restraint at its capacity
-                x, y = r["at"]
-                ax.annotate("", xy=(x, y), xytext=(x - 0.06 * size * r["direction"][0], y),
-                            arrowprops=dict(arrowstyle="->", color="#2e86c1" if full else "#aed6f1",
-                                            lw=1.4 if full else 0.6), zorder=6)
-            handles, labels = ax.get_legend_handles_labels()
-            extra = [Patch(facecolor="#f3e5c0", label="fill (forces on the ring)"),
-                     Line2D([], [], color="#2e86c1", lw=1.4, label="passive restraint at capacity")]
-            legend = ax.get_legend()
-            ax.legend(handles=[*(legend.legend_handles if legend is not None else []), *extra],
-                      loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize="small",
-                      framealpha=0.8)
+        draw_governing(ax, bridge, outcome, position, passive)
         fmt = Path(str(path)).suffix.lstrip(".").lower() or "png"
         atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight"))
     finally:
         plt.close(fig)
     return str(path)
+
+
+def draw_governing(ax, bridge: Bridge, outcome, position: float, passive: bool = True):
+    """The governing collapse mechanism on ``ax``: the fill as built (it does not move: it
+    is forces on the ring), the blocks at rest and displaced with their hinges, slides,
+    loads and line of thrust (:func:`lamodel.output.plot.plot_mechanism`), and the passive
+    restraints the collapse state takes to their capacity (blue arrows; the others pale)."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, Polygon
+
+    from ..output.modes import modes_from_flow
+    from ..output.plot import plot_mechanism
+    s, best = outcome.structure, outcome.best
+    modes = modes_from_flow(s, best.xi)
+    _, fill = _fill(bridge, deck_blocks(bridge))
+    ax.add_patch(Polygon(fill, closed=True, facecolor="#f3e5c0", edgecolor="none", zorder=0))
+    ax.plot(fill[-2:, 0], fill[-2:, 1], color="black", lw=1.5, zorder=0)
+    plot_mechanism(s, best.u.reshape(-1, 3), modes=modes, alpha=best.alpha, certified=True, ax=ax, path=None,
+                   thrust=(best.N, best.M),
+                   title=f"{bridge.name}: governing mechanism, axle at x = {position:g} (adequacy {best.alpha:.4f})")
+    held = restraints(bridge) if passive else []
+    joints = s.n_contacts - getattr(s, "restraints", 0)
+    if not held or len(held) != s.restraints:
+        return
+    size = min(part.span for part, _ in layout(bridge))
+    for r, mode in zip(held, modes[joints:]):
+        full = "crushing" in mode   # the restraint at its capacity
+        x, y = r["at"]
+        ax.annotate("", xy=(x, y), xytext=(x - 0.06 * size * r["direction"][0], y),
+                    arrowprops=dict(arrowstyle="->", color="#2e86c1" if full else "#aed6f1", lw=1.4 if full else 0.6),
+                    zorder=6)
+    legend = ax.get_legend()
+    extra = [Patch(facecolor="#f3e5c0", label="fill (forces on the ring)"),
+             Line2D([], [], color="#2e86c1", lw=1.4, label="passive restraint at capacity")]
+    ax.legend(handles=[*(legend.legend_handles if legend is not None else []), *extra], loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize="small", framealpha=0.8)

@@ -16,7 +16,8 @@ import pandas as pd
 
 from ..io.files import atomic_write_text
 
-_STYLE = """
+#: The reports' stylesheet (also the bridge report's, :mod:`lamodel.bridges.report`).
+STYLE = """
 body { font-family: sans-serif; max-width: 1100px; margin: 1.5em auto; color: #222; }
 h1 { font-size: 1.5em; } h2 { font-size: 1.2em; border-bottom: 1px solid #ccc; margin-top: 1.6em; }
 table { border-collapse: collapse; font-size: 0.9em; margin: 0.5em 0; }
@@ -36,7 +37,7 @@ def svg_of(fig) -> str:
     return text[text.find("<svg"):]
 
 
-def _table(df: pd.DataFrame, highlight=None) -> str:
+def table_html(df: pd.DataFrame, highlight=None) -> str:
     """A plain HTML table; rows where ``highlight`` is True get class 'governing'."""
     def cell(v):
         if isinstance(v, (float, np.floating)):
@@ -52,26 +53,21 @@ def _table(df: pd.DataFrame, highlight=None) -> str:
 
 def report_html(structure, results, words, picture_svg, command, source, study=None) -> str:
     """The report's text. ``study`` is None or (title, key column, table, plot svg)."""
-    from .. import __version__
     s = structure
     summary = results.summary.T.reset_index()
     summary.columns = ["quantity", "value"]
-    parts = [f"<h1>Limit analysis of {html.escape(s.name)}</h1>",
-             f'<p class="meta">lamodel {html.escape(__version__)} &middot; '
-             f"{datetime.datetime.now().isoformat(timespec='seconds')} &middot; command: "
-             f"<code>{html.escape(command)}</code></p>",
-             "<h2>Result</h2>", _table(summary),
+    parts = ["<h2>Result</h2>", table_html(summary),
              "<h2>Mechanism</h2>", f"<figure>{picture_svg}</figure>",
              f'<div class="words">{html.escape(chr(10).join(words))}</div>']
     if study is not None:
         title, key, df, plot_svg = study
-        parts += [f"<h2>{html.escape(title)}</h2>", _table(df, df["governing"].astype(bool)),
+        parts += [f"<h2>{html.escape(title)}</h2>", table_html(df, df["governing"].astype(bool)),
                   f"<figure>{plot_svg}</figure>" if plot_svg else ""]
     moving = results.contacts[~results.contacts["mode"].isin(["closed", "unknown"])]
     cols = ["contact", "block_a", "block_b", "mode", "N", "V", "M"]
     known = results.certified or not (results.contacts["mode"] == "unknown").any()
     parts += ["<h2>Joints that move</h2>",
-              _table(moving[cols]) if len(moving) else
+              table_html(moving[cols]) if len(moving) else
               "<p>none</p>" if known else "<p>unknown: no collapse state was certified</p>"]
     units = s.units or {}
     inputs = pd.DataFrame([
@@ -82,14 +78,24 @@ def report_html(structure, results, words, picture_svg, command, source, study=N
         ("total dead load (fx, fy)", f"({s.dead[:, 0].sum():.6g}, {s.dead[:, 1].sum():.6g})"),
         ("total live load (fx, fy), times alpha", f"({s.live[:, 0].sum():.6g}, {s.live[:, 1].sum():.6g})"),
         ("point loads", len(s.point_loads))], columns=["input", "value"])
-    parts += ["<h2>Inputs and units</h2>", _table(inputs)]
+    parts += ["<h2>Inputs and units</h2>", table_html(inputs)]
     if s.point_loads:
         loads = pd.DataFrame([{"block": p.block, "x": p.at[0], "y": p.at[1], "fx": p.force[0], "fy": p.force[1],
                                "kind": p.kind, "case": p.case or "(all)"} for p in s.point_loads])
-        parts.append(_table(loads))
-    body = "\n".join(parts)
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>lamodel: {html.escape(s.name)}'
-            f"</title><style>{_STYLE}</style></head><body>\n{body}\n</body></html>\n")
+        parts.append(table_html(loads))
+    return page(f"lamodel: {s.name}", f"Limit analysis of {s.name}", command, parts)
+
+
+def page(title: str, heading: str, command: str, parts) -> str:
+    """A whole report page: its heading, lamodel's version, the time and the command, then
+    ``parts`` (HTML), with the reports' stylesheet."""
+    from .. import __version__
+    meta = (f'<p class="meta">lamodel {html.escape(__version__)} &middot; '
+            f"{datetime.datetime.now().isoformat(timespec='seconds')} &middot; command: "
+            f"<code>{html.escape(command)}</code></p>")
+    body = "\n".join([f"<h1>{html.escape(heading)}</h1>", meta, *parts])
+    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}'
+            f"</title><style>{STYLE}</style></head><body>\n{body}\n</body></html>\n")
 
 
 def write_report(path, *args, **kwargs) -> str:

@@ -83,3 +83,27 @@ def test_the_governing_mechanism_is_drawn_with_the_fill(tmp_path):
     # the fill's colour is in the picture (it is drawn), and without outcomes no picture is made
     assert (abs(picture[..., :3] - [0xf3 / 255, 0xe5 / 255, 0xc0 / 255]).max(axis=-1) < 0.02).mean() > 0.02
     assert not any(f.endswith("mechanism.png") for f in write_adequacy(b, table, tmp_path / "b"))
+
+
+def test_the_report_page_holds_the_result_the_pictures_and_the_description(tmp_path):
+    """report.html: one self-contained page — the governing position and factor, the bridge
+    as built, the factor against the position (plot and table, the governing row marked),
+    the governing mechanism with the fill and in words, the description as written."""
+    import json
+
+    from lamodel.bridges.adequacy import adequacy_run
+    from lamodel.bridges.report import write_bridge_report
+    b = read_bridge(BRIDGE)
+    table, outcomes = adequacy_run(b, SolveOptions(starts=0, progress=False))
+    text = json.dumps(BRIDGE, indent=1)
+    path = write_bridge_report(tmp_path / "report.html", b, table, outcomes, text, "lamodel bridge b.json")
+    page = (tmp_path / "report.html").read_text()
+    assert path == str(tmp_path / "report.html")
+    worst = table.loc[table["governing"], "adequacy"].iloc[0]
+    assert f"{worst:.6f}" in page and table["adequacy"].min() == worst
+    for heading in ("Result", "The bridge as built", "Adequacy factor against the load position",
+                    "Governing mechanism", "Description"):
+        assert f"<h2>{heading}</h2>" in page, heading
+    assert page.count("<svg") == 3 and 'class="governing"' in page
+    assert "hinge at the" in page and '&quot;voussoirs&quot;: 12' in page
+    assert "http" not in page.split("<svg", 1)[0]  # nothing fetched from elsewhere
