@@ -11,7 +11,7 @@ import argparse
 import sys
 from contextlib import contextmanager
 
-from .arguments import SEED, rolling_arguments, seconds, strength_arguments, tolerance, whole
+from .arguments import SEED, numbers, rolling_arguments, seconds, strength_arguments, tolerance, whole
 from .io.options3d import add_input_arguments, check_build_options, input_options  # argparse only: light
 from .process import (EXIT_BAD_INPUT, EXIT_HELP, EXIT_NOT_CERTIFIED, EXIT_OK, exit_now,  # noqa: F401 (scripts/)
                       exit_status, interrupted, run_reporting)
@@ -203,26 +203,39 @@ def _bridge_arguments(p):
       "mechanism.png (the governing mechanism with the fill) and report.html")
     a("--starts", type=whole(0), default=0, metavar="K", help="Ipopt starts per position with --adequacy (default 0)")
     a("--workers", type=whole(1), default=None, help="positions solved at once with --adequacy (default: all cores)")
+    a("--positions", metavar="X1,X2,...", type=numbers(), help="positions of the lead axle, replacing the file's "
+      "(default: the file's, else evenly from springing to springing)")
 
 
 def _bridge(args, prog) -> int:
+    import dataclasses
     import warnings
     from pathlib import Path
 
-    from .bridges import bridge_spec, read_bridge
+    from .bridges import bridge_spec, case_name, positions, read_bridge
     from .bridges.picture import plot_bridge
+    from .errors import InputError
     from .io.jsonspec import structure_from_spec, structure_to_json
     with warnings.catch_warnings():  # unknown fields: one line each
         warnings.showwarning = lambda message, *_, **__: print(f"{prog}: warning: {message}", file=sys.stderr)
         bridge = read_bridge(args.bridge)
+        if args.positions:
+            bridge = dataclasses.replace(bridge, positions=tuple(args.positions))
         spec = bridge_spec(bridge, passive=not args.no_passive)
         structure = structure_from_spec(spec, args.bridge)   # checked before it is written
+    off = [x for x in positions(bridge) if case_name(x) not in structure.cases]
+    if off:  # every axle beyond the springings: no block loaded, no case
+        print(f"{prog}: warning: lead-axle position(s) {', '.join(f'{x:g}' for x in off)} load no block (every "
+              "axle beyond the springings); left out", file=sys.stderr)
+    if args.adequacy and not structure.cases:
+        raise InputError(f"{args.bridge}: no lead-axle position loads the bridge; expected positions between the "
+                         "springings")
     out = Path(args.output or Path(args.bridge).with_name(f"{Path(args.bridge).stem}_blocks.json"))
     out.parent.mkdir(parents=True, exist_ok=True)
     structure_to_json(spec, out)
     picture = plot_bridge(bridge, out.with_suffix(".png"), passive=not args.no_passive)
     _say(f"{out}: {len(structure.blocks)} blocks, {structure.n_contacts} contacts ({structure.restraints} passive "
-         f"restraints), {len(structure.cases)} load positions; picture {picture}")
+         f"restraints), {len(structure.cases)} load position{'s' if len(structure.cases) != 1 else ''}; picture {picture}")
     if not args.adequacy:
         return EXIT_OK
     from .bridges import case_positions

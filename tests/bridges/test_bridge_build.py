@@ -279,3 +279,16 @@ def test_a_pointed_arch_has_a_vertical_joint_at_its_apex():
         bridge(rise=2.0, shape="pointed")
     with pytest.raises(InputError, match="'shape'"):
         bridge(shape="gothic")
+
+
+def test_the_command_takes_other_positions_and_says_which_load_nothing(tmp_path):
+    (tmp_path / "b.json").write_text(json.dumps(BASE))
+    run = _cli("bridge", "b.json", "out.json", "--positions=-1,0.5,40", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "2 load positions" in run.stdout
+    assert "position(s) 40 load no block" in run.stderr and len(run.stderr.strip().splitlines()) == 1
+    built = json.loads((tmp_path / "out.json").read_text())
+    assert sorted({x["case"] for x in built["loads"] if x.get("case")}) == ["x=-1", "x=0.5"]
+    run = _cli("bridge", "b.json", "off.json", "--positions", "40,50", "--adequacy", "a", cwd=tmp_path)
+    assert run.returncode == 2 and "no lead-axle position loads the bridge" in run.stderr, run.stderr
+    assert not (tmp_path / "off.json").exists() and not (tmp_path / "a").exists()
