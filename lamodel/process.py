@@ -21,13 +21,13 @@ EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_NOT_CERTIFIED = 0, 1, 2, 3
 
 #: The exit statuses and the signal behaviour of every command (the epilog of ``--help``).
 EXIT_HELP = """exit statuses:
-  0    solve: a certified collapse multiplier; study, table1: every one certified;
-       compare: the results agree; build: the .dat file written
+  0    solve: a certified collapse multiplier; study, table1, bridge --adequacy: every
+       one certified; compare: the results agree; build, bridge: the file written
   1    compare: the results differ; any command: an internal error, or the results
        could not be written
   2    bad input (one line on stderr naming the file, block or option)
   3    solve: no certified multiplier (also a structure unstable under its dead load);
-       study, table1: some variant or wall not certified
+       study, table1, bridge --adequacy: some variant, wall or position not certified
   130  interrupted by Ctrl-C (SIGINT); 143 by SIGTERM, 129 by SIGHUP (128 + signal)
 
 signals: SIGINT, SIGTERM and SIGHUP stop a run alike. During a search, the search
