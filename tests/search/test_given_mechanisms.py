@@ -137,6 +137,7 @@ def test_a_worker_that_dies_costs_its_variants_a_second_solve_not_the_study(capl
     import json
     import os
     import signal
+    from pathlib import Path
 
     from conftest import INSTANCES, descendants
     from lamodel.bridges import read_bridge
@@ -150,9 +151,10 @@ def test_a_worker_that_dies_costs_its_variants_a_second_solve_not_the_study(capl
     killed = []
 
     def kill_one(i, outcome):
-        if not killed:  # the workers are the forkserver's children (the leaves of this process's tree)
-            leaves = [p for p in descendants(os.getpid()) if not descendants(p)]
-            os.kill(max(leaves), signal.SIGKILL)
+        if not killed:  # a worker: a child of the forkserver (never the resource tracker beside it)
+            servers = [p for p in descendants(os.getpid()) if b"forkserver" in Path(f"/proc/{p}/cmdline").read_bytes()]
+            workers = sorted(set().union(*(descendants(p) for p in servers)))
+            os.kill(workers[0], signal.SIGKILL)
             killed.append(i)
     side = solve_all(variants, dataclasses.replace(LP_ONLY, workers=2), kill_one)
     one = solve_all(variants, dataclasses.replace(LP_ONLY, workers=1))
