@@ -337,3 +337,20 @@ def test_a_signal_during_one_load_case_ends_the_cases(monkeypatch):
     assert len(calls) == 1 and study["interrupted"]
     assert study["table"]["status"].tolist() == ["interrupted", "not run"]
     assert extra["case"] == "wind_top"
+
+
+
+def test_the_last_line_of_a_stopped_study_says_how_many_were_not_run(monkeypatch, tmp_path):
+    import lamodel
+    import lamodel.solve_all as solve_all
+    real = solve_all.solve
+
+    def stopped_first(structure, options):
+        outcome = real(structure, options)
+        outcome.status = "interrupted"
+        return outcome
+    monkeypatch.setattr(solve_all, "solve", stopped_first)
+    a = lamodel.analyse(structure_from_json(two_block_cases()), SolveOptions(starts=0, workers=1),
+                        out=tmp_path / "r", picture=False)
+    assert a.interrupted
+    assert a.line().endswith("for 2 cases; stopped: 1 of 2 cases not run"), a.line()

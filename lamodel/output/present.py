@@ -57,12 +57,15 @@ class Analysis:
         """The one-line result."""
         name, r = self.structure.name, self.results
         if self.certified and self.study:  # the governing variant's, and the whole study's time
-            key, n = self.study["key"], len(self.study["table"])
+            key, table = self.study["key"], self.study["table"]
             label = r.summary[key].iloc[0] if key in r.summary else "?"
             label = f"x = {label:.6g}" if key == "position" else f"'{label}'"
+            kind = "cases" if key == "case" else "positions"
+            left = int((table["status"] == "not run").sum())
+            stopped = f"; stopped: {left} of {len(table)} {kind} not run" if self.interrupted else ""
             return (f"{name}: alpha = {max(r.alpha, 0.0):.6f} (certified collapse state; associative bound "
                     f"{r.alpha_associative:.6f}; {key} {label} governs) in {self.study['seconds']:.1f} s for "
-                    f"{n} {'cases' if key == 'case' else 'positions'}")
+                    f"{len(table)} {kind}{stopped}")
         if self.certified:
             return (f"{name}: alpha = {max(r.alpha, 0.0):.6f} (certified collapse state; associative bound "
                     f"{r.alpha_associative:.6f}) in {self.outcome.wall_time_s:.1f} s")
