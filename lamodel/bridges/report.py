@@ -30,7 +30,9 @@ def bridge_report_html(bridge: Bridge, table: pd.DataFrame, outcomes: dict, desc
     length = bridge.units.get("length", "")
     governing = table.loc[table["governing"].astype(bool)]
     certified = int(table["certified"].astype(bool).sum())
-    rows = [("positions solved", f"{len(table)} ({certified} certified)")]
+    left = int((table["status"] == "not run").sum())
+    rows = [("positions solved", f"{len(table) - left} of {len(table)} ({certified} certified)"
+             + ("; stopped by a signal, the rest not run" if left else ""))]
     outcome, position = None, None
     if len(governing):
         g = governing.iloc[0]

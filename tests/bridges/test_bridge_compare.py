@@ -105,5 +105,6 @@ def test_the_report_page_holds_the_result_the_pictures_and_the_description(tmp_p
                     "Governing mechanism", "Description"):
         assert f"<h2>{heading}</h2>" in page, heading
     assert page.count("<svg") == 3 and 'class="governing"' in page
+    assert f"<td>{len(table)} of {len(table)} ({len(table)} certified)</td>" in page
     assert "hinge at the" in page and '&quot;voussoirs&quot;: 12' in page
     assert "http" not in page.split("<svg", 1)[0]  # nothing fetched from elsewhere
