@@ -212,7 +212,7 @@ def _bridge(args, prog) -> int:
     import warnings
     from pathlib import Path
 
-    from .bridges import bridge_spec, case_name, positions, read_bridge
+    from .bridges import bridge_spec, case_name, case_positions, positions, read_bridge
     from .bridges.picture import plot_bridge
     from .errors import InputError
     from .io.jsonspec import structure_from_spec, structure_to_json
@@ -238,8 +238,8 @@ def _bridge(args, prog) -> int:
          f"restraints), {len(structure.cases)} load position{'s' if len(structure.cases) != 1 else ''}; picture {picture}")
     if not args.adequacy:
         return EXIT_OK
-    from .bridges import case_positions
     from .bridges.adequacy import adequacy_run, write_adequacy
+    from .bridges.report import write_bridge_report
     from .search.options import SolveOptions
     where = case_positions(bridge)
 
@@ -249,7 +249,6 @@ def _bridge(args, prog) -> int:
     table, outcomes = adequacy_run(bridge, SolveOptions(starts=args.starts, workers=args.workers),
                                    passive=not args.no_passive, progress=said)
     files = write_adequacy(bridge, table, args.adequacy, outcomes, passive=not args.no_passive)
-    from .bridges.report import write_bridge_report
     files.append(write_bridge_report(Path(args.adequacy) / "report.html", bridge, table, outcomes,
                                      Path(args.bridge).read_text(encoding="utf-8"),
                                      " ".join([prog.split()[0], *sys.argv[1:]]),
