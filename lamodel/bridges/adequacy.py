@@ -68,17 +68,23 @@ def write_adequacy(bridge: Bridge, table: pd.DataFrame, folder, outcomes=None, p
     the ``outcomes`` by position (:func:`adequacy_run`), mechanism.png: the governing
     position's collapse mechanism drawn with the fill (:func:`.picture.plot_governing`)."""
     from ..io.files import write_csv
-    from ..output.figures import rolling_figure, save_open_figure
+    from ..output.figures import save_open_figure
     folder = Path(folder)
     write_csv(table, folder / "adequacy.csv")  # atomically: a reader never sees half a table
-    plot = table.rename(columns={"adequacy": "alpha_c"})
-    fig = rolling_figure(plot, f"{bridge.name}: adequacy factor against the load position",
-                         bridge.units.get("length", ""))
-    fig.axes[0].set_ylabel("adequacy factor (collapse multiplier)")
-    files = [str(folder / "adequacy.csv"), save_open_figure(fig, folder / "adequacy.png")]
+    files = [str(folder / "adequacy.csv"), save_open_figure(adequacy_figure(bridge, table), folder / "adequacy.png")]
     governing = table.loc[table["governing"].astype(bool), "position"]
     outcome = None if outcomes is None or governing.empty else outcomes.get(governing.iloc[0])
     if outcome is not None and outcome.best is not None:
         from .picture import plot_governing
         files.append(plot_governing(bridge, outcome, folder / "mechanism.png", governing.iloc[0], passive))
     return files
+
+
+def adequacy_figure(bridge: Bridge, table: pd.DataFrame):
+    """A matplotlib figure: the adequacy factor against the lead axle's position, the
+    governing one marked."""
+    from ..output.figures import rolling_figure
+    fig = rolling_figure(table.rename(columns={"adequacy": "alpha_c"}),
+                         f"{bridge.name}: adequacy factor against the load position", bridge.units.get("length", ""))
+    fig.axes[0].set_ylabel("adequacy factor (collapse multiplier)")
+    return fig

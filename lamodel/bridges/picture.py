@@ -5,7 +5,6 @@ drawn with the fill (:func:`plot_governing`)."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -74,17 +73,8 @@ def _fill(bridge: Bridge, blocks):
 def plot_governing(bridge: Bridge, outcome, path, position: float, passive: bool = True) -> str:
     """The governing collapse mechanism drawn with the fill (:func:`draw_governing`),
     written to ``path``; returns it."""
-    import matplotlib.pyplot as plt
-
-    from ..io.files import atomic_write
-    fig, ax = plt.subplots(figsize=(10, 5))
-    try:
-        draw_governing(ax, bridge, outcome, position, passive)
-        fmt = Path(str(path)).suffix.lstrip(".").lower() or "png"
-        atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight"))
-    finally:
-        plt.close(fig)
-    return str(path)
+    return save_figure(path, lambda fig: draw_governing(fig.add_subplot(111), bridge, outcome, position, passive),
+                       size=(10.0, 5.0))
 
 
 def draw_governing(ax, bridge: Bridge, outcome, position: float, passive: bool = True):

@@ -22,7 +22,7 @@ def bridge_report_html(bridge: Bridge, table: pd.DataFrame, outcomes: dict, desc
     ``description`` the bridge file's text."""
     import matplotlib.pyplot as plt
 
-    from ..output.figures import rolling_figure
+    from .adequacy import adequacy_figure
     from ..output.modes import modes_from_flow
     from ..output.words import describe
     from .picture import draw_bridge, draw_governing
@@ -52,10 +52,8 @@ def bridge_report_html(bridge: Bridge, table: pd.DataFrame, outcomes: dict, desc
         figures.append(fig)
         draw_bridge(ax, bridge, lead=position, passive=passive)
         parts += ["<h2>The bridge as built</h2>", f"<figure>{svg_of(fig)}</figure>"]
-        fig = rolling_figure(table.rename(columns={"adequacy": "alpha_c"}),
-                             f"{bridge.name}: adequacy factor against the load position", length)
+        fig = adequacy_figure(bridge, table)
         figures.append(fig)
-        fig.axes[0].set_ylabel("adequacy factor (collapse multiplier)")
         parts += ["<h2>Adequacy factor against the load position</h2>", f"<figure>{svg_of(fig)}</figure>",
                   table_html(table, table["governing"].astype(bool))]
         if outcome is not None and outcome.best is not None:
