@@ -14,7 +14,10 @@ under way from here, whatever sent it to this process, again each second until t
 all ended: a worker that took it before its solve began still ends.
 
 A worker process that dies (killed, out of memory) takes the solves in flight with it:
-they are solved again on new workers, once; a second death is an error naming them.
+they are solved again on new workers, once; a second death is an error naming them. The
+workers start by importing what the main module imports; a script run as ``python
+script.py`` is run again in each of them, so a script that starts studies must do so under
+``if __name__ == "__main__":`` (Python's rule for process pools; the error says so).
 """
 from __future__ import annotations
 
@@ -22,6 +25,7 @@ import logging
 import multiprocessing
 import os
 import signal
+import sys
 import threading
 from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import replace
@@ -38,15 +42,18 @@ RESEND = 1.0
 RETRIES = 1
 
 
-def solve_all(variants, options: SolveOptions | None = None, on_outcome=None) -> list:
+def solve_all(variants, options: SolveOptions | None = None, on_outcome=None, labels=None) -> list:
     """The outcome of every variant, in their order (None: not run, after a stop).
-    ``on_outcome(i, outcome)`` is called in this process as each one ends."""
+    ``on_outcome(i, outcome)`` is called in this process as each one ends; ``labels``
+    name the variants in messages (default: their structures' names)."""
     opt = options or SolveOptions()
     workers = min(count(opt.workers), len(variants))
     # (a daemonic process, a multiprocessing pool's worker, may not start processes)
     if workers <= 1 or opt.scheduler is not None or multiprocessing.current_process().daemon:
         return _one_after_another(variants, opt, on_outcome)
-    return _side_by_side(variants, replace(opt, workers=1, ga_workers=None, progress=False), workers, on_outcome)
+    labels = [v.name for v in variants] if labels is None else [str(x) for x in labels]
+    return _side_by_side(variants, replace(opt, workers=1, ga_workers=None, progress=False), workers, on_outcome,
+                         labels)
 
 
 def _one_after_another(variants, opt, on_outcome):
@@ -60,7 +67,7 @@ def _one_after_another(variants, opt, on_outcome):
     return outcomes
 
 
-def _side_by_side(variants, opt, workers, on_outcome):
+def _side_by_side(variants, opt, workers, on_outcome, labels):
     from concurrent.futures.process import BrokenProcessPool
 
     from .process import kill_quietly
@@ -99,11 +106,11 @@ def _side_by_side(variants, opt, workers, on_outcome):
                 kill_quietly(list((getattr(pool, "_processes", None) or {}).values()))
                 pool.shutdown(wait=False, cancel_futures=True)
                 if not stop.is_set():
-                    twice = [variants[i].name for i in lost if tries[i] > RETRIES]
+                    twice = [labels[i] for i in lost if tries[i] > RETRIES]
                     if twice:
-                        raise RuntimeError(f"the worker process solving {', '.join(twice)} died "
-                                           f"{RETRIES + 1} times (out of memory?); try --workers 1")
-                    log.warning("a worker process died; solving %s again", ", ".join(variants[i].name for i in lost))
+                        raise RuntimeError(f"the worker processes solving {', '.join(twice)} died {RETRIES + 1} "
+                                           f"times ({_why_died()}); try --workers 1 (workers=1)")
+                    log.warning("a worker process died; solving %s again", ", ".join(labels[i] for i in lost))
                     pending.extend(lost[::-1])  # solved again first, on a new pool
                     pool = _pool(workers)
     except BaseException:
@@ -113,6 +120,16 @@ def _side_by_side(variants, opt, workers, on_outcome):
         pool.shutdown(wait=False, cancel_futures=True)
         restore_sigint(caught)
     return outcomes
+
+
+def _why_died() -> str:
+    """The likely causes of workers dying, for the error: a script run as ``python
+    script.py`` is run again by every worker (module doc)."""
+    main = sys.modules.get("__main__")
+    if getattr(main, "__spec__", None) is None and getattr(main, "__file__", None):
+        return ("out of memory, or the script starts the study outside 'if __name__ == \"__main__\":', "
+                "which each worker runs again")
+    return "out of memory?"
 
 
 def _pool(workers):

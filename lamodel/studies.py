@@ -95,7 +95,7 @@ def _variant_study(key, labels, variants, options, progress, same_blocks=False):
         rows[i] = {key: labels[i], **outcome_row(outcome)}
         if progress is not None:
             progress(rows[i])
-    solve_all(variants, options, one)
+    solve_all(variants, options, one, labels=[f"{key} {label}" for label in labels])
     rows = [row or {key: label, "alpha_c": np.nan, "alpha_associative": np.nan, "certified": False, "n_sliding": 0,
                     "n_hinging": 0, "n_open": 0, "seconds": 0.0, "status": "not run"}
             for label, row in zip(labels, rows)]

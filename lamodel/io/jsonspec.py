@@ -44,7 +44,8 @@ Restraints (:mod:`lamodel.io.restraints`). ``"restraints": [{"support", "block",
 support (a bridge's passive fill pressure): contacts given, not found, after the others.
 
 When the file gives live point loads or a rolling load but no ``"live_load"``, the blocks'
-own live load is zero: alpha multiplies only the loads written.
+own live load is zero but where a body writes its ``"live"``: alpha multiplies only the
+loads written.
 
 Contacts. Two bodies are in contact where an edge of one and an edge of the other lie on
 one line (within the tolerance), face each other (opposite outward normals) and overlap
@@ -186,6 +187,8 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
     weight = unit_weight * area[moving]
     dead = np.column_stack([np.zeros_like(weight), -weight])
     live = weight[:, None] * live_load[None, :]
+    if "live_load" not in spec and writes_live(spec, also=("rolling_load",)):
+        live[:] = 0.0  # alpha multiplies only the live loads the file writes (a body's own "live" among them)
     row = {int(p): r for r, p in enumerate(moving)}
     for pos, f in dead_over.items():
         dead[row[pos]] = f
@@ -196,8 +199,6 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
     for store, arr in ((moment_over["dead_m"], dead_m), (moment_over["live_m"], live_m)):
         for pos, m in store.items():
             arr[row[pos]] = m
-    if "live_load" not in spec and writes_live(spec, also=("rolling_load",)):
-        live[:] = 0.0  # alpha multiplies only the live loads the file writes
 
     mus = np.asarray(mus)
     joints = joint_strengths(spec, where, ids, body_strengths, ia, ib, JOINT_DEFAULTS)
@@ -318,7 +319,9 @@ def structure_to_json(source, path=None) -> dict:
     """The JSON spec of a generated geometry (a dict) or of a Structure; written to
     ``path`` if given (one body per line, so that files diff well). Returns the dict.
 
-    A Structure is written with explicit ``dead`` and ``live`` loads per block; its
+    A Structure is written with explicit ``dead`` and ``live`` loads per block (its point
+    loads common to every case among them), its load cases' point loads as ``loads`` with
+    their ``case``, its rolling load as ``rolling_load``; its
     friction is written as a top-level ``mu`` when all contacts share one value, else per
     body (the largest of its contacts), which must reproduce every contact's ``mu`` as
     the smaller of its two bodies' values.
@@ -388,4 +391,13 @@ def _spec_of_structure(s: Structure) -> dict:
                                   if np.isfinite(value[key][k])}} for k in range(n)]
     if s.restraints:
         spec["restraints"] = restraints_of(s, n)
+    # the load cases' own point loads (the loads common to all are in the blocks' dead and live)
+    loads = [{"block": p.block, "at": [float(v) for v in p.at], "force": [float(v) for v in p.force], "case": name}
+             for name, case in s.cases.items() for p in case.point_loads if p.case == name]
+    if loads:
+        spec["loads"] = loads
+    if s.rolling is not None:
+        r = s.rolling
+        spec["rolling_load"] = {"force": [float(v) for v in r.force], "axles": [float(v) for v in r.axles],
+                                **({} if r.positions is None else {"positions": [float(v) for v in r.positions]})}
     return spec

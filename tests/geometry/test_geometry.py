@@ -506,3 +506,29 @@ def test_wall_with_openings_leaves_the_openings_empty_and_bridges_them_with_lint
     assert s.n_blocks == len(blocks)
     with pytest.raises(InputError, match="does not fit"):
         wall_with_openings(courses=6, width=8, openings=((7, 9, 0, 4),))
+
+
+def test_load_cases_and_a_rolling_load_survive_a_round_trip_through_json(tmp_path):
+    """A structure's load cases (their own point loads, over a common live load) and its
+    rolling load are written and read back: every case's live forces and moments, the
+    rolling axles and positions the same."""
+    from lamodel.loads import case_structure
+    blocks = [{"id": "b1", "vertices": rect(0, 0, 1, 1)}, {"id": "b2", "vertices": rect(0, 1, 1, 2)}, ground()]
+    cases = {**spec_of(*blocks), "mu": 0.6,
+             "loads": [{"block": "b2", "at": [0, 2], "force": [1, 0], "case": "top"},
+                       {"block": "b1", "at": [0.2, 0.5], "force": [0.5, -0.1], "case": "low"},
+                       {"block": "b2", "at": [1, 1.5], "force": [0.25, 0]},
+                       {"block": "b1", "at": [0.9, 1], "force": [0, -2], "kind": "dead"}]}
+    rolling = {**spec_of(*blocks), "mu": 0.6,
+               "rolling_load": {"force": [0, -1], "axles": [0, 0.4], "positions": [0.1, 0.5]}}
+    for spec in (cases, rolling):
+        s = structure_from_json(spec)
+        path = tmp_path / "again.json"
+        structure_to_json(s, path)
+        t = structure_from_json(path)
+        assert_same_structure(t, s, exact=False)
+        assert list(t.cases) == list(s.cases) and t.rolling == s.rolling
+        for name in s.cases:
+            a, b = case_structure(t, name), case_structure(s, name)
+            assert np.allclose(a.live, b.live) and np.allclose(a.live_m, b.live_m)
+            assert np.allclose(a.dead, b.dead) and np.allclose(a.dead_m, b.dead_m)

@@ -162,3 +162,42 @@ def test_a_worker_that_dies_costs_its_variants_a_second_solve_not_the_study(capl
     for a, b in zip(side, one):
         assert a.status == b.status == CERTIFIED
         assert a.best.alpha == pytest.approx(b.best.alpha, rel=1e-9)
+
+
+SCRIPT = '''
+import json
+from lamodel.io.jsonspec import structure_from_json
+from lamodel.search.driver import SolveOptions
+from lamodel.studies import load_case_study
+{body}
+'''
+STUDY = ("df, _ = load_case_study(structure_from_json(json.loads(open({spec!r}).read())), "
+         "SolveOptions(starts=0, progress=False, workers=2))\nprint(df['status'].tolist())")
+
+
+@pytest.mark.parametrize("guarded", [True, False])
+def test_a_script_that_solves_side_by_side_is_told_to_guard_its_main(tmp_path, guarded):
+    """A user's script run as ``python script.py`` that starts a study side by side: under
+    ``if __name__ == "__main__":`` it is solved; unguarded, its workers run the script again
+    and cannot start, and the error names the cases and says why (not only "out of memory")."""
+    import subprocess
+    import sys
+    import textwrap
+
+    from lamodel.io.jsonspec import structure_to_json
+
+    spec = tmp_path / "stack.json"
+    structure_to_json(stack(), spec)
+    study = STUDY.format(spec=str(spec))
+    body = ("if __name__ == '__main__':\n" + textwrap.indent(study, "    ")) if guarded else study
+    script = tmp_path / "study.py"
+    script.write_text(SCRIPT.format(body=body))
+    run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    if guarded:
+        assert run.returncode == 0, run.stderr[-2000:]
+        assert run.stdout.strip() == str([CERTIFIED] * 3)
+    else:
+        assert run.returncode != 0
+        error = [line for line in run.stderr.splitlines() if line.startswith("RuntimeError: the worker")]
+        assert error, run.stderr[-2000:]
+        assert "died 2 times" in error[-1] and "case top" in error[-1] and "if __name__ ==" in error[-1]
