@@ -94,6 +94,23 @@ def _variant(structure: Structure, live, live_m, point_loads) -> Structure:
     return s
 
 
+def one_live_load(structure, what: str) -> None:
+    """InputError unless the structure carries one live load pattern: ``what`` (a solve, a
+    study) takes one; load cases and a rolling load are solved one pattern at a time
+    (:func:`case_structure`, :func:`rolling_structure`; all of them:
+    :mod:`lamodel.studies`)."""
+    cases, rolling = getattr(structure, "cases", None), getattr(structure, "rolling", None)
+    if cases:
+        raise InputError(f"structure '{structure.name}' has load cases ({', '.join(list(cases)[:4])}"
+                         f"{', ...' if len(cases) > 4 else ''}); a {what} takes one live load: expected "
+                         "lamodel.loads.case_structure(structure, name) for one case, or "
+                         "lamodel.studies.load_case_study(structure) for all (lamodel solve FILE solves them all)")
+    if rolling is not None:
+        raise InputError(f"structure '{structure.name}' has a rolling load; a {what} takes one live load: expected "
+                         "lamodel.loads.rolling_structure(structure, x) for one position, or "
+                         "lamodel.studies.rolling_study(structure) for all (lamodel solve FILE solves them all)")
+
+
 def case_structure(structure: Structure, name: str) -> Structure:
     """The structure under load case ``name`` (its live loads only; dead loads as ever)."""
     if name not in structure.cases:

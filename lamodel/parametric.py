@@ -50,7 +50,7 @@ import pandas as pd
 from .errors import InputError, OutputError
 from .spec_values import check_keys, numbers, sd_of
 from .structure import Structure
-from .variants import (friction_places, in_space, with_block_sizes, with_dead_force, with_friction, with_load_angle,
+from .variants import (in_space, joint_places, with_block_sizes, with_dead_force, with_friction, with_load_angle,
                        with_strengths)
 
 #: columns after the parameters, in this order
@@ -96,7 +96,9 @@ class Study:
 # ------------------------------------------------------------------------- the spec
 def study_from_dict(spec: dict, structure: Structure, where: str = "study spec") -> Study:
     """A Study from a parsed spec and its (already read) base structure."""
+    from .loads import one_live_load
     check_keys(spec, SPEC_KEYS, where)
+    one_live_load(structure, "study")
     from .search.options import SolveOptions
     options = spec.get("options", {})
     check_keys(options, OPTION_KEYS, f"{where}: options")
@@ -195,10 +197,12 @@ def variant_structure(study: Study, params: dict, rng: np.random.Generator) -> t
         s = with_dead_force(s, study.dead_block, params["dead_fx"], params["dead_fy"], name=s.name)
     r = study.random or {}
     if "mu" in r:
-        z = rng.standard_normal(friction_places(s) if r["mu"]["per"] == "contact" else 1)
+        n = joint_places(s)  # (restraints keep no friction)
+        z = rng.standard_normal(n if r["mu"]["per"] == "contact" else 1)
         s = copy.deepcopy(s)
-        s.mu = np.maximum(s.mu + r["mu"]["sd"] * z, 0.0)
-        drawn.update(mu_mean=float(s.mu.mean()), mu_min=float(s.mu.min()))
+        s.mu = np.array(s.mu, dtype=float)
+        s.mu[:n] = np.maximum(s.mu[:n] + r["mu"]["sd"] * z, 0.0)
+        drawn.update(mu_mean=float(s.mu[:n].mean()), mu_min=float(s.mu[:n].min()))
     if "size" in r:
         f = 1.0 + r["size"]["sd"] * np.clip(rng.standard_normal(s.n_blocks), -3, 3)
         s = with_block_sizes(s, f)

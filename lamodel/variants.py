@@ -24,14 +24,22 @@ def friction_places(structure) -> int:
     return structure.n_points if in_space(structure) else structure.n_contacts
 
 
+def joint_places(structure) -> int:
+    """The joints a what-if changes: every friction place but the restraints (a bridge's
+    passive fill pressure, :mod:`lamodel.io.restraints`), which come last and keep their
+    own capacity and no friction."""
+    return friction_places(structure) - (0 if in_space(structure) else int(structure.restraints))
+
+
 def with_friction(structure: Structure, mu: float) -> Structure:
     """A copy of the structure with the friction coefficient mu on every contact (in
-    space: every contact point)."""
+    space: every contact point); restraints keep none."""
     mu = float(mu)
     if not np.isfinite(mu) or mu < 0:
         raise InputError(f"friction coefficient {mu}: expected a finite number >= 0")
     s = copy.deepcopy(structure)
-    s.mu = np.full(friction_places(s), mu)
+    n = joint_places(s)
+    s.mu = np.concatenate([np.full(n, mu), np.asarray(structure.mu, dtype=float)[n:]])
     s.name = f"{structure.name}_mu{mu:g}"
     return s
 
@@ -40,12 +48,15 @@ def with_strengths(structure: Structure, fc: float | None = None, ft: float | No
                    cohesion: float | None = None) -> Structure:
     """A copy of the structure with these strengths on every joint (None: the structure's
     own; :mod:`lamodel.formulation.joints`; in space on every contact point,
-    :mod:`lamodel.formulation.space`), checked (InputError naming the field)."""
+    :mod:`lamodel.formulation.space`), checked (InputError naming the field); restraints
+    keep their capacity."""
     s = copy.deepcopy(structure)
-    n = friction_places(s)
+    n = joint_places(s)
     for name, value in (("fc", fc), ("ft", ft), ("cohesion", cohesion)):
         if value is not None:
-            setattr(s, name, np.full(n, float(value)))
+            column = np.full(friction_places(s), float(value))
+            column[n:] = np.asarray(getattr(s, name), dtype=float)[n:]  # the restraints' own
+            setattr(s, name, column)
     return s.validate()
 
 

@@ -6,6 +6,7 @@ validated Structure, a 3D one a validated Structure3D.
 """
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 from ..errors import InputError
@@ -53,7 +54,22 @@ def build_dat(geometry, output=None, name: str | None = None) -> str:
         raise InputError(f"{geometry}: not a .json file; expected a JSON polygon geometry (a .dat file is an "
                          "instance already; a mesh is a structure in space)")
     output = Path(output) if output else Path(geometry).with_suffix(".dat")
+    if str(output) == "-" or output.is_dir():
+        raise InputError(f"{output}: {'a folder' if output.is_dir() else 'not a file name'}; expected the path "
+                         "of the .dat file to write")
     structure = structure_from_json(geometry, name=name)
+    kept_only_in_json = [what for what, there in (("load cases", structure.cases), ("a rolling load",
+                                                  structure.rolling is not None)) if there]
+    if kept_only_in_json:   # a .dat holds one live load pattern
+        raise InputError(f"{geometry}: has {' and '.join(kept_only_in_json)}, which a .dat file cannot hold (one "
+                         f"live load); expected lamodel solve {geometry} on the JSON itself")
+    if structure.units:
+        units = ", ".join(f"{k} {v}" for k, v in structure.units.items())
+        warnings.warn(f"{output}: a .dat file keeps no units ({units}); its tables will have none", stacklevel=2)
+    if name and name != output.stem:
+        warnings.warn(f"{output}: a .dat instance is named by its file: lamodel solve will call it "
+                      f"'{output.stem}', not '{name}'", stacklevel=2)
+    output.parent.mkdir(parents=True, exist_ok=True)
     write_dat(structure, output)
     return (f"{output}: {structure.n_blocks} blocks, {len(structure.supports)} supports, "
             f"{structure.n_contacts} contacts")

@@ -43,6 +43,7 @@ from concurrent.futures.process import BrokenProcessPool
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from ..loads import one_live_load
 from ..signals import catch_sigint, restore_sigint
 from ..structure import Structure
 from ..structure3d import Structure3D
@@ -90,6 +91,7 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     opt = options or SolveOptions()
     t0 = time.perf_counter()
     structure.validate()
+    one_live_load(structure, "solve")
     opt.validate()
     _check_solver(opt)
     # the search works on the blocks and contacts in their canonical order (the LPs are

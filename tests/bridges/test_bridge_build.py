@@ -292,3 +292,24 @@ def test_the_command_takes_other_positions_and_says_which_load_nothing(tmp_path)
     run = _cli("bridge", "b.json", "off.json", "--positions", "40,50", "--adequacy", "a", cwd=tmp_path)
     assert run.returncode == 2 and "no lead-axle position loads the bridge" in run.stderr, run.stderr
     assert not (tmp_path / "off.json").exists() and not (tmp_path / "a").exists()
+
+
+def test_what_ifs_change_the_joints_and_leave_the_restraints_alone():
+    """--fc, --ft, --cohesion, a friction study and random friction change the masonry's
+    joints; the passive restraints (the last contacts) keep their capacity and no friction."""
+    from lamodel.loads import case_structure
+    from lamodel.parametric import study_from_dict, variant_structure
+    from lamodel.variants import with_friction, with_strengths
+    built = structure_from_spec(bridge_spec(bridge()), "b")
+    s = case_structure(built, next(iter(built.cases)))
+    n, r = s.n_contacts - s.restraints, s.restraints
+    assert r > 0
+    for t in (with_strengths(s, fc=1e6, ft=5.0, cohesion=2.0), with_friction(s, 0.9)):
+        for name in ("mu", "fc", "ft", "cohesion"):
+            assert np.array_equal(getattr(t, name)[n:], getattr(s, name)[n:]), name
+    t = with_strengths(s, fc=1e6)
+    assert np.all(t.fc[:n] == 1e6) and np.all(t.fc[n:] < 1e3)
+    assert np.all(with_friction(s, 0.9).mu[:n] == 0.9)
+    study = study_from_dict({"random": {"count": 2, "mu": {"sd": 0.2}}}, s)
+    t, _ = variant_structure(study, {}, np.random.default_rng(3))
+    assert np.all(t.mu[n:] == 0) and not np.allclose(t.mu[:n], s.mu[:n])

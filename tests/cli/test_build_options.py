@@ -47,3 +47,31 @@ def test_what_build_cannot_honour_is_refused(cubes, tmp_path, capsys, geometry, 
     out, err = capsys.readouterr()
     assert out == "" and len(err.strip().splitlines()) == 1 and words in err, err
     assert not Path("x.dat").exists() and not (ROOT / "instances" / "x.dat").exists()
+
+
+def test_a_dat_that_cannot_hold_the_file_is_refused_or_said(tmp_path, capsys):
+    """A .dat holds one live load, no units, and takes its name from its file: load cases or
+    a rolling load are refused (exit 2, nothing written), units and a --name it cannot keep
+    are said; a folder or '-' as the output is refused; missing parent folders are made."""
+    stack = {"name": "s", "mu": 0.6, "units": {"length": "m", "force": "kN"},
+             "blocks": [{"id": "ground", "vertices": [[-2, -1], [2, -1], [2, 0], [-2, 0]], "support": True},
+                        {"id": "b1", "vertices": [[-0.5, 0], [0.5, 0], [0.5, 1], [-0.5, 1]]}]}
+    cases = {**stack, "loads": [{"block": "b1", "at": [0, 1], "force": [1, 0], "case": "top"}]}
+    rolling = {**stack, "rolling_load": {"force": [0, -1]}}
+    for spec, words in ((cases, "has load cases"), (rolling, "has a rolling load")):
+        path = tmp_path / "g.json"
+        path.write_text(json.dumps(spec))
+        assert main(["build", str(path), "-o", str(tmp_path / "g.dat")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and words in err[0] and "cannot hold" in err[0]
+        assert not (tmp_path / "g.dat").exists()
+    path = tmp_path / "g.json"
+    path.write_text(json.dumps(stack))
+    for out, words in ((tmp_path, "a folder"), ("-", "not a file name")):
+        assert main(["build", str(path), "-o", str(out)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and words in err[0]
+    out = tmp_path / "new" / "x.dat"
+    assert main(["build", str(path), "-o", str(out), "--name", "wall"]) == 0
+    err = capsys.readouterr().err
+    assert out.exists() and "keeps no units (length m, force kN)" in err and "call it 'x', not 'wall'" in err

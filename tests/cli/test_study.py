@@ -2,6 +2,7 @@
 and on a Dask cluster; bad input in one line; lamodel solve --scheduler."""
 import json
 import os
+import re
 import socket
 import subprocess
 import sys
@@ -116,3 +117,28 @@ def test_solve_on_a_dask_scheduler_gives_the_local_alpha(tmp_path, dask_cluster)
     pd.testing.assert_frame_equal(a.drop(columns="seconds"), b.drop(columns="seconds"))
     sa, sb = (pd.read_csv(tmp_path / w / "summary.csv") for w in ("local", "dask"))
     assert sa.loc[0, "alpha"] == sb.loc[0, "alpha"] == pytest.approx(0.638982, abs=1e-6)
+
+
+def test_a_structure_of_load_cases_is_refused_by_a_study_and_by_solve(tmp_path):
+    """A study (and the library's solve) takes one live load: a file of load cases or a
+    rolling load is refused in one line naming the way to solve it, not solved as if it had
+    no live load."""
+    from lamodel import SolveOptions, read, solve
+    from lamodel.errors import InputError
+    cases = {"name": "cases", "mu": 0.6,
+             "blocks": [{"id": "ground", "vertices": [[-2, -1], [2, -1], [2, 0], [-2, 0]], "support": True},
+                        {"id": "b1", "vertices": [[-0.5, 0], [0.5, 0], [0.5, 1], [-0.5, 1]]}],
+             "loads": [{"block": "b1", "at": [0, 1], "force": [1, 0], "case": "top"},
+                       {"block": "b1", "at": [0, 0.5], "force": [1, 0], "case": "mid"}]}
+    rolling = {**{k: v for k, v in cases.items() if k != "loads"}, "rolling_load": {"force": [0, -1]}}
+    for spec, words in ((cases, "has load cases (top, mid)"), (rolling, "has a rolling load")):
+        path = tmp_path / "s.json"
+        path.write_text(json.dumps(spec))
+        study = tmp_path / "study.json"
+        study.write_text(json.dumps({"structure": str(path), "vary": {"mu": [0.3, 0.6]}}))
+        res = lamodel("study", study, "--out", tmp_path / "out", timeout=60)
+        lines = res.stderr.strip().splitlines()
+        assert res.returncode == 2 and len(lines) == 1 and words in lines[0], res.stderr
+        assert not (tmp_path / "out").exists()
+        with pytest.raises(InputError, match=re.escape(words)):
+            solve(read(path), SolveOptions(starts=0))
