@@ -76,6 +76,9 @@ class Structure(Assembly):
     # the last this many contacts are restraints a file gave (lamodel.io.restraints): one-way
     # bounded reactions from a support, not found from the polygons
     restraints: int = 0
+    # what a JSON file said besides (written back by lamodel.io.jsonspec.structure_to_json)
+    description: str = ""
+    tolerance: float | None = None       # the geometric tolerance relative to the model's size
 
     def __post_init__(self):
         self._as_text("blocks", "supports", "contacts", "block_a", "block_b")

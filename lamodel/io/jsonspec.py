@@ -231,6 +231,7 @@ def structure_from_spec(spec: dict, where: str, name: str | None = None, toleran
         polygons={b: p for b, p in zip(ids, polygons)},
         dead_m=dead_m, live_m=live_m, units=units(spec, where),
         restraints=0 if extra is None else int(extra["a"].size),
+        description=str(spec.get("description", "")), tolerance=rel_tol,
         **joints,
     )
     _point_loads(spec, where, structure, tol)
@@ -267,8 +268,9 @@ def _point_loads(spec, where, structure, tol):
         if kind not in KINDS:
             raise InputError(f"{at}: 'kind' is {json.dumps(kind)}; expected \"live\" or \"dead\"")
         case = load.get("case", "")
-        if not isinstance(case, str):
-            raise InputError(f"{at}: 'case' is {json.dumps(case)}; expected a case name (text)")
+        if not isinstance(case, str) or ("case" in load and not case.strip()):
+            raise InputError(f"{at}: 'case' is {json.dumps(case)}; expected a case name (text), or no 'case' for a "
+                             "load of every case")
         if case and kind == "dead":
             raise InputError(f"{at}: a dead load with case '{case}'; expected dead loads without a case "
                              "(they act in every case)")
@@ -348,6 +350,10 @@ def _spec_of_structure(s: Structure) -> dict:
         raise InputError(f"structure '{s.name}': block '{missing[0]}' has no polygon; expected polygons for every "
                          "body to write the geometry as JSON")
     spec = {"name": s.name}
+    if s.description:
+        spec["description"] = s.description
+    if s.tolerance is not None and s.tolerance != DEFAULT_TOLERANCE:
+        spec["tolerance"] = float(s.tolerance)
     if s.units:
         spec["units"] = dict(s.units)
     n = s.n_contacts - s.restraints  # the contacts found from the polygons; then the restraints
@@ -355,7 +361,8 @@ def _spec_of_structure(s: Structure) -> dict:
     body_mu = {}
     if uniform:
         spec["mu"] = float(s.mu[0])
-    else:
+    elif n:
+        spec["mu"] = float(np.max(s.mu[:n]))  # for the bodies in no contact (their own below)
         for k in range(n):
             for x in (s.block_a[k], s.block_b[k]):
                 body_mu[x] = max(body_mu.get(x, 0.0), float(s.mu[k]))
@@ -363,18 +370,17 @@ def _spec_of_structure(s: Structure) -> dict:
             if min(body_mu[s.block_a[k]], body_mu[s.block_b[k]]) != s.mu[k]:
                 raise InputError(f"structure '{s.name}': the friction of contact '{s.contacts[k]}' cannot be written "
                                  "as the smaller 'mu' of its two bodies; expected friction given per body")
-    blocks = []
-    for j, b in enumerate(s.blocks):
-        body = {"id": b, "vertices": s.polygons[b].tolist(),
-                "dead": s.dead[j].tolist(), "live": s.live[j].tolist()}
-        for key, arr in (("dead_m", s.dead_m), ("live_m", s.live_m)):
-            if arr[j]:
-                body[key] = float(arr[j])
-        if b in body_mu:
-            body["mu"] = body_mu[b]
-        blocks.append(body)
-    for b in s.supports:
-        body = {"id": b, "vertices": s.polygons[b].tolist(), "support": True}
+    blocks, index = [], s.block_index()
+    for b in s.polygons:  # the file's order of bodies: contacts found again in the same order, same ids
+        if b in index:
+            j = index[b]
+            body = {"id": b, "vertices": s.polygons[b].tolist(),
+                    "dead": s.dead[j].tolist(), "live": s.live[j].tolist()}
+            for key, arr in (("dead_m", s.dead_m), ("live_m", s.live_m)):
+                if arr[j]:
+                    body[key] = float(arr[j])
+        else:
+            body = {"id": b, "vertices": s.polygons[b].tolist(), "support": True}
         if b in body_mu:
             body["mu"] = body_mu[b]
         blocks.append(body)

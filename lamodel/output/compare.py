@@ -11,6 +11,8 @@ A and B differ when any of the following holds:
 
 * the collapse multipliers differ: ``|alpha_B - alpha_A| > atol``;
 * ``certified`` differs;
+* the units differ (``length_unit``, ``force_unit`` of the summaries; none against some
+  counts as different): the numbers are not comparable;
 * the structures differ: other block ids, other contact ids, a contact joining other
   bodies, or another number of blocks or contacts in the summaries (then the row
   ``structure`` says "different structures" and contacts and blocks are not matched:
@@ -201,6 +203,15 @@ def _different_structures(a, b, m: Matching) -> str:
     return f"{m.noun} {moved[key].iloc[0]} joins other bodies" if len(moved) else ""
 
 
+def _units(r) -> str:
+    """The result's units as its summary gives them ('none': dimensionless)."""
+    summary = getattr(r, "summary", None)
+    row = summary.iloc[0] if isinstance(summary, pd.DataFrame) and len(summary) else {}
+    given = [str(row.get(key, "") or "") for key in ("length_unit", "force_unit")]
+    given = ["" if g in ("nan", "-") else g for g in given]
+    return ", ".join(f"{k} {v}" for k, v in zip(("length", "force"), given) if v) or "none"
+
+
 def _sizes(r, m: Matching) -> str:
     """The structure's counts, as its tables give them."""
     if m is PLANE:
@@ -246,6 +257,9 @@ def compare_results(a, b, atol: float = DEFAULT_ATOL):
     rows["alpha_associative"] = dict(A=a.alpha_associative, B=b.alpha_associative,
                                      difference=b.alpha_associative - a.alpha_associative, tolerance="",
                                      differs=False, detail="information (not counted)")
+    units_a, units_b = _units(a), _units(b)
+    rows["units"] = dict(A=units_a, B=units_b, difference="", tolerance="", differs=units_a != units_b,
+                         detail="same" if units_a == units_b else "other units: the numbers are not comparable")
     _id_sets(a.blocks, b.blocks, "block", "block", rows)
     _id_sets(a.contacts, b.contacts, m.contact, m.noun, rows)
 

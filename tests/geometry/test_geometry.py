@@ -532,3 +532,27 @@ def test_load_cases_and_a_rolling_load_survive_a_round_trip_through_json(tmp_pat
             a, b = case_structure(t, name), case_structure(s, name)
             assert np.allclose(a.live, b.live) and np.allclose(a.live_m, b.live_m)
             assert np.allclose(a.dead, b.dead) and np.allclose(a.dead_m, b.dead_m)
+
+
+def test_a_round_trip_keeps_the_order_ids_tolerance_and_description(tmp_path):
+    """Written back, a file gives the same contacts under the same ids (the bodies in the
+    file's order, ground first here), its tolerance and description; a support in no
+    contact beside bodies of other frictions is read back."""
+    spec = spec_of(ground(), {"id": "a", "vertices": rect(0, 0, 1, 1), "mu": 0.9},
+                   {"id": "b", "vertices": rect(0, 1.0005, 1, 2)},
+                   {"id": "far", "vertices": rect(30, 0, 31, 3), "support": True},
+                   tolerance=1e-3, description="a stack with a gap")
+    s = structure_from_json(spec)
+    path = tmp_path / "again.json"
+    structure_to_json(s, path)
+    t = structure_from_json(path)
+    assert_same_structure(t, s, exact=False)
+    assert [b["id"] for b in json.loads(path.read_text())["blocks"]] == ["ground", "a", "b", "far"]
+    assert t.tolerance == 1e-3 and t.description == "a stack with a gap"
+
+
+def test_an_empty_case_name_is_refused():
+    spec = spec_of({"id": "a", "vertices": rect(0, 0, 1, 1)}, ground(),
+                   loads=[{"block": "a", "at": [0, 1], "force": [1, 0], "case": " "}])
+    with pytest.raises(InputError, match="'case' is \" \"; expected a case name"):
+        structure_from_json(spec)

@@ -171,3 +171,17 @@ def test_script_bad_input_exit_2(tmp_path, case):
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("compare.py: error: "), res.stderr
     assert "Traceback" not in res.stderr
+
+
+def test_results_in_other_units_differ():
+    """The same numbers in kN and m against N and mm, or against no units: not comparable."""
+    def in_units(length, force):
+        r = toy()
+        r.summary["length_unit"], r.summary["force_unit"] = length, force
+        return r
+    kn, n, bare = in_units("m", "kN"), in_units("mm", "N"), toy()
+    table, differ = compare_results(kn, n, 1e-5)
+    assert differ and table.loc["units", "differs"] and table.loc["units", "A"] == "length m, force kN"
+    assert compare_results(kn, bare, 1e-5)[1] and table.loc["units", "B"] == "length mm, force N"
+    assert not compare_results(kn, in_units("m", "kN"), 1e-5)[1]
+    assert compare_results(bare, toy(), 1e-5)[0].loc["units", "A"] == "none"
