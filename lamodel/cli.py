@@ -8,6 +8,7 @@ that need them, so ``lamodel --help`` answers at once.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from contextlib import contextmanager
 
@@ -213,6 +214,7 @@ def _bridge(args, prog) -> int:
     from pathlib import Path
 
     from .bridges import bridge_spec, case_name, case_positions, positions, read_bridge
+    from .bridges.description import distinct_positions
     from .bridges.picture import plot_bridge
     from .errors import InputError
     from .io.jsonspec import structure_from_spec, structure_to_json
@@ -220,19 +222,24 @@ def _bridge(args, prog) -> int:
         warnings.showwarning = lambda message, *_, **__: print(f"{prog}: warning: {message}", file=sys.stderr)
         bridge = read_bridge(args.bridge)
         if args.positions:
-            bridge = dataclasses.replace(bridge, positions=tuple(args.positions))
+            bridge = dataclasses.replace(bridge, positions=distinct_positions(args.positions, "--positions"))
         spec = bridge_spec(bridge, passive=not args.no_passive)
         structure = structure_from_spec(spec, args.bridge)   # checked before it is written
     off = [x for x in positions(bridge) if case_name(x) not in structure.cases]
     if off:  # every axle beyond the springings: no block loaded, no case
         print(f"{prog}: warning: lead-axle position(s) {', '.join(f'{x:g}' for x in off)} load no block (every "
               "axle beyond the springings); left out", file=sys.stderr)
-    if args.adequacy and not structure.cases:
+    if not structure.cases:  # (its file would be solved under the default live load, not an axle)
         raise InputError(f"{args.bridge}: no lead-axle position loads the bridge; expected positions between the "
                          "springings")
+    if args.output and args.output.endswith(("/", os.sep)):
+        raise InputError(f"{args.output}: a folder; expected the path of the block structure's JSON file")
     out = Path(args.output or Path(args.bridge).with_name(f"{Path(args.bridge).stem}_blocks.json"))
-    out.parent.mkdir(parents=True, exist_ok=True)
-    structure_to_json(spec, out)
+    _bridge_outputs(Path(args.bridge), out, args.adequacy)
+    try:
+        structure_to_json(spec, out)
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write it ({exc.strerror}); expected a writable path") from None
     picture = plot_bridge(bridge, out.with_suffix(".png"), passive=not args.no_passive)
     _say(f"{out}: {len(structure.blocks)} blocks, {structure.n_contacts} contacts ({structure.restraints} passive "
          f"restraints), {len(structure.cases)} load position{'s' if len(structure.cases) != 1 else ''}; picture {picture}")
@@ -256,6 +263,30 @@ def _bridge(args, prog) -> int:
     _say(table.to_string(index=False))
     _say(f"written: {', '.join(files)}")
     return EXIT_OK if table["certified"].all() else EXIT_NOT_CERTIFIED
+
+
+def _bridge_outputs(bridge, out, adequacy) -> None:
+    """The bridge command's outputs checked before any work: the structure (JSON) and its
+    picture beside it (.png) neither the description nor each other, their folder and the
+    adequacy folder made (InputError naming the path otherwise)."""
+    from pathlib import Path
+
+    from .errors import InputError
+    picture = out.with_suffix(".png")
+    if out.suffix.lower() == ".png" or out.is_dir():
+        raise InputError(f"{out}: {'a folder' if out.is_dir() else 'the picture path'}; expected the path of the "
+                         "block structure's JSON file (its picture is written beside it, .png)")
+    for path in (out, picture):
+        if path.exists() and path.resolve() == bridge.resolve():
+            raise InputError(f"{path}: the bridge description itself; expected another output path (the "
+                             "description is never overwritten)")
+    for folder in [out.parent] + ([Path(adequacy)] if adequacy else []):
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"{folder}: cannot make this folder ({exc.strerror}); expected a writable folder") from None
+    if not os.access(out.parent, os.W_OK):
+        raise InputError(f"{out.parent}: not writable; expected a writable folder for {out.name}")
 
 
 # ------------------------------------------------------------------------------ table1

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..search.tuning import BRIDGE_POSITIONS
-from .description import Bridge, lateral_coefficient, passive_coefficient
+from .description import Bridge, case_name, lateral_coefficient, passive_coefficient
 from .fill import dead_loads, live_loads, restraints
 from .deck import deck_blocks
 from .ring import voussoir_id
@@ -20,11 +20,6 @@ def positions(bridge: Bridge) -> list:
     if bridge.positions is not None:
         return [float(x) for x in bridge.positions]
     return [float(f"{x:.12g}") for x in np.linspace(-bridge.span / 2, bridge.span / 2, BRIDGE_POSITIONS)]
-
-
-def case_name(x: float) -> str:
-    """The load case of the lead axle at x (a token: no spaces)."""
-    return f"x={x:.6g}"
 
 
 def bridge_spec(bridge: Bridge, passive: bool = True) -> dict:

@@ -319,6 +319,9 @@ def _read_fill(b: Bridge, fill: dict, at: str):
     if b.lateral not in LATERAL:
         raise InputError(f"{at}: 'lateral' is {json.dumps(b.lateral)[:30]}; expected one of {', '.join(LATERAL)}")
     b.passive = _positive(fill, "passive", at, Bridge.passive, strict=False)
+    if b.passive > 1:
+        raise InputError(f"{at}: 'passive' is {b.passive:g}; expected the mobilised fraction of the passive "
+                         "pressure, from 0 to 1 (0.33 for a third)")
     b.spread = _positive(fill, "spread", at, Bridge.spread, strict=False)
     if b.spread >= 90:
         raise InputError(f"{at}: 'spread' is {b.spread:g}; expected an angle from the vertical in degrees, below 90")
@@ -333,7 +336,26 @@ def _read_load(b: Bridge, load: dict, at: str):
         b.axles = _numbers(load, "axles", at, "offsets of the axles from the lead one, e.g. [0, 1.2]")
     b.patch = _positive(load, "patch", at, 0.0, strict=False)
     if "positions" in load:
-        b.positions = _numbers(load, "positions", at, "abscissas of the lead axle")
+        b.positions = distinct_positions(_numbers(load, "positions", at, "abscissas of the lead axle"),
+                                         f"{at}: 'positions'")
+
+
+def case_name(x: float) -> str:
+    """The load case of the lead axle at x (a token: no spaces)."""
+    return f"x={x:.6g}"
+
+
+def distinct_positions(xs, at: str) -> tuple:
+    """The lead axle's positions, each a load case of its own (named to 6 digits,
+    :func:`lamodel.bridges.build.case_name`): InputError on one given twice (two axle
+    groups in one case would be solved as one load)."""
+    seen = {}
+    for x in xs:
+        if case_name(x) in seen:
+            raise InputError(f"{at}: {seen[case_name(x)]:g} and {x:g} are the same position (to 6 digits); "
+                             "expected each position once")
+        seen[case_name(x)] = x
+    return tuple(float(x) for x in xs)
 
 
 def passive_coefficient(phi: float) -> float:

@@ -114,8 +114,12 @@ def live_loads(bridge: Bridge, lead: float, case: str) -> list:
     patch = max(bridge.patch, BRIDGE_KNIFE_EDGE * bridge.span)
     elastic = bridge.dispersal == "boussinesq"
     force, moment = np.zeros(len(ch)), np.zeros(len(ch))
+    lo, hi = ch[0][1][0], ch[-1][2][0]   # the outer springings
     for offset in bridge.axles:
         x0 = lead + offset
+        half = patch / 2 + deepest * (BOUSSINESQ_REACH if elastic else tan)   # how far its load spreads
+        if x0 - half >= hi or x0 + half <= lo:
+            continue   # all of it on the abutments (and no sampling out to a far position)
         reach = abs(x0) + bridge.patch / 2 + deepest * (BOUSSINESQ_REACH if elastic else tan)
         xs, dx, zs, owner = _samples(bridge, ch, reach)
         if elastic:

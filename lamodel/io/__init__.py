@@ -54,6 +54,9 @@ def build_dat(geometry, output=None, name: str | None = None) -> str:
         raise InputError(f"{geometry}: not a .json file; expected a JSON polygon geometry (a .dat file is an "
                          "instance already; a mesh is a structure in space)")
     output = Path(output) if output else Path(geometry).with_suffix(".dat")
+    if output.exists() and output.resolve() == Path(geometry).resolve():
+        raise InputError(f"{output}: the geometry itself; expected another output path (the input is never "
+                         "overwritten)")
     if str(output) == "-" or output.is_dir():
         raise InputError(f"{output}: {'a folder' if output.is_dir() else 'not a file name'}; expected the path "
                          "of the .dat file to write")

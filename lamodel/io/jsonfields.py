@@ -118,7 +118,7 @@ def body_support_mu(body, at, mu_all):
 def blocks_of(spec, where) -> list:
     """The ``"blocks"`` list, never empty."""
     bodies = spec.get("blocks")
-    if bodies is None and "span" in spec and "ring" in spec:   # a bridge description (lamodel.bridges)
+    if bodies is None and ("span" in spec or "spans" in spec) and "ring" in spec:  # a bridge (lamodel.bridges)
         raise InputError(f"{where}: a bridge description, not blocks; expected `lamodel bridge {where} OUT.json` "
                          "first, then `lamodel solve OUT.json`")
     if not isinstance(bodies, list) or not bodies:

@@ -313,3 +313,29 @@ def test_what_ifs_change_the_joints_and_leave_the_restraints_alone():
     study = study_from_dict({"random": {"count": 2, "mu": {"sd": 0.2}}}, s)
     t, _ = variant_structure(study, {}, np.random.default_rng(3))
     assert np.all(t.mu[n:] == 0) and not np.allclose(t.mu[:n], s.mu[:n])
+
+
+@pytest.mark.parametrize("args, change, words", [
+    (("b.json", "b.json"), {}, "the bridge description itself"),
+    (("b.json", "b.png"), {}, "the picture path"),
+    (("b.json", "sub/"), {}, "a folder"),
+    (("b.json", "afile/out.json"), {}, "afile: cannot make this folder"),
+    (("b.json", "o.json", "--adequacy", "afile"), {}, "afile: cannot make this folder"),
+    (("b.json", "o.json", "--positions=1,1.0000001"), {}, "are the same position"),
+    (("b.json", "o.json"), {"load": dict(BASE["load"], positions=[0.5, 0.5])}, "are the same position"),
+    (("b.json", "o.json"), {"load": dict(BASE["load"], positions=[100.0, -1e300])}, "no lead-axle position loads"),
+    (("b.json", "o.json"), {"fill": dict(BASE["fill"], passive=33)}, "'passive' is 33"),
+])
+def test_the_command_refuses_what_would_lose_a_file_or_give_a_wrong_factor(tmp_path, args, change, words):
+    """Before any work, in one line (exit 2), nothing written: an output over the description
+    or over its own picture, an output folder that cannot be made, one position given twice
+    (it would be two axles in one case), no position on the deck (the file would be solved
+    under the default live load), a passive fraction above 1."""
+    (tmp_path / "b.json").write_text(json.dumps(dict(BASE, **change)))
+    (tmp_path / "afile").write_text("a file")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    run = _cli("bridge", *args, cwd=tmp_path)
+    lines = run.stderr.strip().splitlines()
+    assert run.returncode == 2 and words in lines[-1] and "Traceback" not in run.stderr, run.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    assert json.loads((tmp_path / "b.json").read_text())["span"] == BASE["span"]
