@@ -6,6 +6,7 @@ Every variant is a deep copy; the structure passed in is never modified.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
@@ -84,7 +85,20 @@ def with_load_angle(structure: Structure, degrees: float) -> Structure:
         out.live = structure.live @ turn
         out.live_m = structure.live_m @ turn
         return out
-    out.live = structure.live @ np.array([[c, s], [-s, c]])
+    turn = np.array([[c, s], [-s, c]])
+    out.live = structure.live @ turn
+    # a live point load's moment about its block's centroid turns with its force (a couple
+    # the file gave stays: a couple in the plane does not change as the forces turn)
+    from .loads import moment
+    index, live_m = structure.block_index(), np.array(structure.live_m, dtype=float)
+    loads = []
+    for p in structure.point_loads:
+        if p.kind == "live":
+            j, f = index[p.block], np.asarray(p.force, dtype=float)
+            live_m[j] += moment(p.at, structure.centroid[j], f @ turn) - moment(p.at, structure.centroid[j], f)
+            p = dataclasses.replace(p, force=tuple(float(v) for v in f @ turn))
+        loads.append(p)
+    out.live_m, out.point_loads = live_m, loads
     return out
 
 

@@ -58,6 +58,7 @@ def _pier(bridge: Bridge, k: int, spans: list) -> list:
                          f"{pier.width + b1[0] - b2[0]:.4g}, room for the springing joints of both spans on its top")
     bottom = -pier.height
     corners = [a1, [a1[0], bottom], [a2[0], bottom], a2, b2, b1]
+    _convex_top(bridge, k, spans, [a2, b2, b1, a1])
     out = [{"id": f"pier{k + 1}", "support": pier.kind == "rigid",
             "vertices": [list(map(float, c)) for c in corners]}]
     if pier.kind == "block":
@@ -66,6 +67,22 @@ def _pier(bridge: Bridge, k: int, spans: list) -> list:
                     "vertices": [[a1[0] - depth, bottom - depth], [a2[0] + depth, bottom - depth],
                                  [a2[0] + depth, bottom], [a1[0] - depth, bottom]]})
     return out
+
+
+def _convex_top(bridge: Bridge, k: int, spans: list, top) -> None:
+    """InputError unless pier k's top (the two springing joints, right to left) is convex: a
+    block is convex, and spans of other shapes or ring thicknesses can meet on a pier in
+    joints at angles that make its top concave."""
+    p = np.asarray(top, dtype=float)
+    size = max(float(np.ptp(p[:, 0])), float(np.ptp(p[:, 1])), 1e-300)
+    for u, v, w in zip(p, p[1:], p[2:]):
+        d1, d2 = v - u, w - v
+        if d1[0] * d2[1] - d1[1] * d2[0] < -1e-9 * size * size:   # a right turn: a dip in the top
+            left, right = spans[k][0], spans[k + 1][0]
+            raise InputError(
+                f"bridge '{bridge.name}': piers[{k}]: the springing joints of spans[{k}] ({left.shape}, ring "
+                f"{left.thickness:g}) and spans[{k + 1}] ({right.shape}, ring {right.thickness:g}) make the pier's top "
+                "concave; expected spans that meet on a pier with the same shape and ring thickness (a block is convex)")
 
 
 def _abutment_grounds(bridge: Bridge, ends: list) -> list:

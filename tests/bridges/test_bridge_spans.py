@@ -134,6 +134,11 @@ def test_a_spans_ring_warns_of_what_it_cannot_change():
     ({"piers": [{"height": 3.0, "width": 1.0, "kind": "wood"}]}, "'kind'"),
     ({"span": 6.0}, "'span'"),
     ({"spans": [{"span": 6.0, "rise": 4.0}, {"span": 6.0, "rise": 1.5}]}, "'rise'"),
+    # spans whose springing joints make the pier's top concave (a block is convex)
+    ({"spans": [{"span": 6.0, "rise": 1.5}, {"span": 6.0, "rise": 1.5, "shape": "elliptical"}]},
+     r"piers\[0\]: the springing joints of spans\[0\] \(segmental, ring 0.3\) and spans\[1\] \(elliptical"),
+    ({"spans": [{"span": 6.0, "rise": 1.5}, {"span": 6.0, "rise": 1.5, "ring": {"thickness": 0.7}}]},
+     "make the pier's top concave"),
 ])
 def test_bad_spans_and_piers_are_one_line_naming_the_field(changes, field):
     with pytest.raises(InputError, match=field) as err:

@@ -556,3 +556,21 @@ def test_an_empty_case_name_is_refused():
                    loads=[{"block": "a", "at": [0, 1], "force": [1, 0], "case": " "}])
     with pytest.raises(InputError, match="'case' is \" \"; expected a case name"):
         structure_from_json(spec)
+
+
+def test_a_turned_live_load_turns_the_moments_of_its_point_loads():
+    """with_load_angle (a study's load_angle) on live point loads off the centroids: the
+    same forces and moments as the file written with the turned forces."""
+    from lamodel.variants import with_load_angle
+    blocks = [{"id": "a", "vertices": rect(0, 0, 1, 2)}, {"id": "b", "vertices": rect(0, 2, 1, 3)}, ground()]
+    def file(force):
+        return structure_from_json(spec_of(*blocks, loads=[{"block": "b", "at": [0, 3], "force": force},
+                                                          {"block": "a", "at": [1, 0.5], "force": [0.5, 0.2]}]))
+    for degrees in (30.0, 90.0, -120.0):
+        c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+        turned = with_load_angle(file([1.0, 0.0]), degrees)
+        want = structure_from_json(spec_of(*blocks, loads=[
+            {"block": "b", "at": [0, 3], "force": [c, s]},
+            {"block": "a", "at": [1, 0.5], "force": [0.5 * c - 0.2 * s, 0.5 * s + 0.2 * c]}]))
+        assert np.allclose(turned.live, want.live) and np.allclose(turned.live_m, want.live_m)
+        assert np.allclose([p.force for p in turned.point_loads], [p.force for p in want.point_loads])
