@@ -261,6 +261,9 @@ def _bridge(args, prog) -> int:
                                      " ".join([prog.split()[0], *sys.argv[1:]]),
                                      passive=not args.no_passive))
     _say(table.to_string(index=False))
+    for x, outcome in outcomes.items():  # why a position has no factor, as lamodel solve says it
+        if outcome is not None and outcome.best is None and outcome.message:
+            _say(f"x = {x:.6g}: {outcome.message}")
     _say(f"written: {', '.join(files)}")
     return EXIT_OK if table["certified"].all() else EXIT_NOT_CERTIFIED
 
