@@ -215,7 +215,12 @@ def read_bridge(source) -> Bridge:
         if one.shape == "pointed" and one.voussoirs % 2:
             raise InputError(f"{here}: 'voussoirs' is {one.voussoirs}; expected an even number for a pointed arch (a "
                              "joint at the apex)")
-        if one.thickness >= one.least_radius:
+        try:
+            least = one.least_radius
+        except OverflowError:
+            raise InputError(f"{where}: the arch's span {one.span:g} and rise {one.rise:g} overflow its geometry; "
+                             "expected the dimensions of a bridge") from None
+        if one.thickness >= least:
             raise InputError(f"{here}: 'thickness' is {one.thickness:g}; expected less than the intrados' least radius "
                              f"of curvature {one.least_radius:.4g}")
     abut = json_object(spec.get("abutments", {}), f"{where}: abutments", "'abutments'", ABUTMENT_FIELDS)

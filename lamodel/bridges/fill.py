@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from ..search.tuning import BOUSSINESQ_REACH, BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES
+from ..search.tuning import BOUSSINESQ_REACH, BRIDGE_KNIFE_EDGE, BRIDGE_SAMPLES, BRIDGE_SAMPLES_BEYOND
 from .description import Bridge, lateral_coefficient, passive_coefficient
 from .deck import deck_bed, deck_blocks, restraint_support, span_centre
 
@@ -161,7 +161,9 @@ def _samples(bridge: Bridge, ch, reach: float):
         owner.append(np.full(BRIDGE_SAMPLES, i))
     ends = (ch[0][1], ch[-1][2])
     step = (ends[1][0] - ends[0][0]) / (BRIDGE_SAMPLES * len(ch))
-    n = max(0, int(np.ceil((reach - ends[1][0]) / step)))
+    beyond = max(0.0, reach - ends[1][0])
+    step = max(step, beyond / BRIDGE_SAMPLES_BEYOND)
+    n = int(np.ceil(beyond / step))
     for end, sign in ((ends[0], -1.0), (ends[1], 1.0)):
         xs.append(end[0] + sign * (np.arange(n) + 0.5) * step)
         dx.append(np.full(n, step))

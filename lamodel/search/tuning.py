@@ -405,6 +405,10 @@ BRIDGE_POSITIONS = 21
 #: Samples per extrados chord where the dispersed surface load is integrated (midpoint
 #: rule): the forces sum to the axle's to round-off, each chord's share to ~1/this.
 BRIDGE_SAMPLES = 400
+#: ... and over each abutment (beyond the springings, at one depth: that share only scales the
+#: ring's) at most this many, the step widened past them: a deep fill or a wide spread would
+#: otherwise sample out to it (fill depth 1e6: 5e8 samples). Typical bridges stay well below.
+BRIDGE_SAMPLES_BEYOND = 200_000
 #: Boussinesq's dispersal is sampled this many fill depths beyond the patch: past 10 depths
 #: a strip's stress carries under 0.05 % of its load (left out; the rest is scaled up).
 BOUSSINESQ_REACH = 10.0

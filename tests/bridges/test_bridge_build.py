@@ -339,3 +339,12 @@ def test_the_command_refuses_what_would_lose_a_file_or_give_a_wrong_factor(tmp_p
     assert run.returncode == 2 and words in lines[-1] and "Traceback" not in run.stderr, run.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == before
     assert json.loads((tmp_path / "b.json").read_text())["span"] == BASE["span"]
+
+
+def test_absurd_sizes_are_built_or_refused_in_a_line_not_run_out_of_memory():
+    """A fill a million units deep is built (its spread over the abutments sampled coarser:
+    it sampled 5e8 points); a span of 1e200 is one line naming the arch, not an overflow."""
+    built = structure_from_spec(bridge_spec(bridge(fill=dict(BASE["fill"], depth=1e6))), "b")
+    assert built.cases and np.all(np.isfinite(built.centroid))
+    with pytest.raises(InputError, match="overflow its geometry"):
+        bridge(span=1e200)
