@@ -321,9 +321,9 @@ def structure_to_json(source, path=None) -> dict:
     """The JSON spec of a generated geometry (a dict) or of a Structure; written to
     ``path`` if given (one body per line, so that files diff well). Returns the dict.
 
-    A Structure is written with explicit ``dead`` and ``live`` loads per block (its point
-    loads common to every case among them), its load cases' point loads as ``loads`` with
-    their ``case``, its rolling load as ``rolling_load``; its
+    A Structure is written with its point loads as ``loads`` (those of its load cases with
+    their ``case``), the rest of each block's ``dead`` and ``live`` loads explicit, its
+    rolling load as ``rolling_load``; its
     friction is written as a top-level ``mu`` when all contacts share one value, else per
     body (the largest of its contacts), which must reproduce every contact's ``mu`` as
     the smaller of its two bodies' values.
@@ -371,14 +371,26 @@ def _spec_of_structure(s: Structure) -> dict:
                 raise InputError(f"structure '{s.name}': the friction of contact '{s.contacts[k]}' cannot be written "
                                  "as the smaller 'mu' of its two bodies; expected friction given per body")
     blocks, index = [], s.block_index()
+    # the point loads acting here are written where they act (pictures draw them), the blocks'
+    # own loads without them
+    from ..loads import moment
+    own = {"dead": s.dead.astype(float), "live": s.live.astype(float),
+           "dead_m": np.array(s.dead_m, dtype=float), "live_m": np.array(s.live_m, dtype=float)}
+    loads = []
+    for p in s.point_loads:
+        j, f = index[p.block], np.asarray(p.force, dtype=float)
+        own[p.kind][j] -= f
+        own[f"{p.kind}_m"][j] -= moment(p.at, s.centroid[j], f)
+        loads.append({"block": p.block, "at": [float(v) for v in p.at], "force": [float(v) for v in f],
+                      **({"kind": "dead"} if p.kind == "dead" else {})})
     for b in s.polygons:  # the file's order of bodies: contacts found again in the same order, same ids
         if b in index:
             j = index[b]
             body = {"id": b, "vertices": s.polygons[b].tolist(),
-                    "dead": s.dead[j].tolist(), "live": s.live[j].tolist()}
-            for key, arr in (("dead_m", s.dead_m), ("live_m", s.live_m)):
-                if arr[j]:
-                    body[key] = float(arr[j])
+                    "dead": own["dead"][j].tolist(), "live": own["live"][j].tolist()}
+            for key in ("dead_m", "live_m"):
+                if own[key][j]:
+                    body[key] = float(own[key][j])
         else:
             body = {"id": b, "vertices": s.polygons[b].tolist(), "support": True}
         if b in body_mu:
@@ -397,9 +409,9 @@ def _spec_of_structure(s: Structure) -> dict:
                                   if np.isfinite(value[key][k])}} for k in range(n)]
     if s.restraints:
         spec["restraints"] = restraints_of(s, n)
-    # the load cases' own point loads (the loads common to all are in the blocks' dead and live)
-    loads = [{"block": p.block, "at": [float(v) for v in p.at], "force": [float(v) for v in p.force], "case": name}
-             for name, case in s.cases.items() for p in case.point_loads if p.case == name]
+    # the load cases' own point loads (those of every case are above)
+    loads += [{"block": p.block, "at": [float(v) for v in p.at], "force": [float(v) for v in p.force], "case": name}
+              for name, case in s.cases.items() for p in case.point_loads if p.case == name]
     if loads:
         spec["loads"] = loads
     if s.rolling is not None:

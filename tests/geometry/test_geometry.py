@@ -509,9 +509,9 @@ def test_wall_with_openings_leaves_the_openings_empty_and_bridges_them_with_lint
 
 
 def test_load_cases_and_a_rolling_load_survive_a_round_trip_through_json(tmp_path):
-    """A structure's load cases (their own point loads, over a common live load) and its
-    rolling load are written and read back: every case's live forces and moments, the
-    rolling axles and positions the same."""
+    """A structure's point loads (dead, live, of every case), its load cases' own and its
+    rolling load are written and read back: every case's forces and moments, the point
+    loads, the rolling axles and positions the same."""
     from lamodel.loads import case_structure
     blocks = [{"id": "b1", "vertices": rect(0, 0, 1, 1)}, {"id": "b2", "vertices": rect(0, 1, 1, 2)}, ground()]
     cases = {**spec_of(*blocks), "mu": 0.6,
@@ -528,6 +528,8 @@ def test_load_cases_and_a_rolling_load_survive_a_round_trip_through_json(tmp_pat
         t = structure_from_json(path)
         assert_same_structure(t, s, exact=False)
         assert list(t.cases) == list(s.cases) and t.rolling == s.rolling
+        assert t.point_loads == s.point_loads   # drawn where they act, not folded into the blocks' loads
+        assert np.allclose(t.dead_m, s.dead_m) and np.allclose(t.live_m, s.live_m)
         for name in s.cases:
             a, b = case_structure(t, name), case_structure(s, name)
             assert np.allclose(a.live, b.live) and np.allclose(a.live_m, b.live_m)
