@@ -223,7 +223,10 @@ def _bridge(args, prog) -> int:
         bridge = read_bridge(args.bridge)
         if args.positions:
             bridge = dataclasses.replace(bridge, positions=distinct_positions(args.positions, "--positions"))
-        spec = bridge_spec(bridge, passive=not args.no_passive)
+        try:
+            spec = bridge_spec(bridge, passive=not args.no_passive)
+        except InputError as exc:  # name the file, as the reader's messages do
+            raise InputError(str(exc).replace(f"bridge '{bridge.name}'", str(args.bridge), 1)) from None
         structure = structure_from_spec(spec, args.bridge)   # checked before it is written
     off = [x for x in positions(bridge) if case_name(x) not in structure.cases]
     if off:  # every axle beyond the springings: no block loaded, no case

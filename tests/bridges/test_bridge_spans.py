@@ -152,7 +152,7 @@ def test_the_command_line_refuses_a_negative_pier_width_in_one_line(tmp_path):
     run = subprocess.run([sys.executable, "-m", "lamodel.cli", "bridge", str(path)], capture_output=True, text=True,
                          cwd=ROOT)
     assert run.returncode == 2
-    assert run.stderr.strip().count("\n") == 0 and "piers[0]" in run.stderr and "'width'" in run.stderr
+    assert run.stderr.strip().count("\n") == 0 and f"{path}: piers[0]" in run.stderr and "'width'" in run.stderr
 
 
 RINGS = {"name": "rings", "span": 6.0, "rise": 1.5,
