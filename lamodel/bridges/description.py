@@ -352,7 +352,7 @@ def case_name(x: float) -> str:
 
 def distinct_positions(xs, at: str) -> tuple:
     """The lead axle's positions, each a load case of its own (named to 6 digits,
-    :func:`lamodel.bridges.build.case_name`): InputError on one given twice (two axle
+    :func:`case_name`): InputError on one given twice (two axle
     groups in one case would be solved as one load)."""
     seen = {}
     for x in xs:
