@@ -56,6 +56,10 @@ def bridge_report_html(bridge: Bridge, table: pd.DataFrame, outcomes: dict, desc
         figures.append(fig)
         parts += ["<h2>Adequacy factor against the load position</h2>", f"<figure>{svg_of(fig)}</figure>",
                   table_html(table, table["governing"].astype(bool))]
+        why = [f"x = {x:g}: {o.message}" for x, o in outcomes.items()   # positions without a factor, and why
+               if o is not None and o.best is None and o.message]
+        if why:
+            parts.append(f'<div class="words">{html.escape(chr(10).join(why))}</div>')
         if outcome is not None and outcome.best is not None:
             fig, ax = plt.subplots(figsize=(10, 5))
             figures.append(fig)

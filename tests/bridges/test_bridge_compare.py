@@ -108,3 +108,17 @@ def test_the_report_page_holds_the_result_the_pictures_and_the_description(tmp_p
     assert f"<td>{len(table)} of {len(table)} ({len(table)} certified)</td>" in page
     assert "hinge at the" in page and '&quot;voussoirs&quot;: 12' in page
     assert "http" not in page.split("<svg", 1)[0]  # nothing fetched from elsewhere
+
+
+def test_a_position_without_a_factor_says_why_on_the_line_and_in_the_report(tmp_path, capsys):
+    """An axle patch wider than the bridge (a load the ring carries at any multiple): the
+    position has no factor (exit 3), and the command and report.html say why, as solve does."""
+    import json
+    spec = dict(BRIDGE, load=dict(BRIDGE["load"], patch=100.0))
+    (tmp_path / "b.json").write_text(json.dumps(spec))
+    code = command("bridge", [str(tmp_path / "b.json"), str(tmp_path / "o.json"), "--adequacy", str(tmp_path / "a"),
+                              "--positions=-1.5", "--workers", "1"], prog="lamodel bridge")
+    out = capsys.readouterr().out
+    assert code == 3 and "x = -1.5: no collapse state certified: the associative LP is unbounded" in out
+    assert "x = -1.5: no collapse state certified: the associative LP is unbounded" in (tmp_path / "a" /
+                                                                                     "report.html").read_text()
