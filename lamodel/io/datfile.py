@@ -102,6 +102,7 @@ def write_dat(structure: Structure, path) -> str:
 
 def _scan_duplicates(path: str, text: str):
     """Pyomo keeps the last of two rows with the same key; a user deserves an error."""
+    _scan_duplicate_keys(path, text)
     header = None
     seen = {}
     for lineno, raw in enumerate(text.splitlines(), start=1):
@@ -134,6 +135,33 @@ def _scan_duplicates(path: str, text: str):
             dup = {x for x in members if members.count(x) > 1}
             if dup:
                 raise InputError(f"{path}, line {lineno}: set {m.group(1)} lists '{sorted(dup)[0]}' twice; expected unique ids")
+
+
+def _scan_duplicate_keys(path: str, text: str):
+    """As :func:`_scan_duplicates`, for rows that share a line (``param: fc := c1 20 c1 5 ;``):
+    each table's entries cut into rows of its width (the key and one value per column)."""
+    header, tokens = None, []
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        m = re.match(r"param\s*:(.*):=\s*(.*)$", line)
+        if m:
+            header, tokens, line = m.group(1), [], m.group(2).strip()
+        if header is None or not line:
+            continue
+        tokens += [(lineno, t) for t in line.split(";", 1)[0].split()]
+        if ";" in line:
+            names = header.replace(":", " ").split()
+            key_width = 2 if header.strip().startswith("VERTICES") else 1
+            width = key_width + len(names) - (1 if key_width == 2 else 0)
+            seen = {}
+            for r in range(0, len(tokens) - width + 1, width):
+                key = tuple(t for _, t in tokens[r:r + key_width])
+                if key in seen:
+                    values = names[1:] if key_width == 2 else names
+                    raise InputError(f"{path}, line {tokens[r][0]}: '{' '.join(key)}' is given twice in the table of "
+                                     f"{', '.join(values)} (first on line {seen[key]}); expected one row per key")
+                seen[key] = tokens[r][0]
+            header = None
 
 
 def _scan_row_widths(path: str, text: str):

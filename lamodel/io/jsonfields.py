@@ -184,15 +184,15 @@ def joint_strengths(spec, where, ids, body_strengths, ia, ib, defaults, fields=S
         return {}
     out = {}
     for key in fields:
-        value = np.full(len(ia), top.get(key, defaults[key]))
-        for k, (a, b) in enumerate(zip(ia, ib)):
-            given = [x[key] for x in (body_strengths[a], body_strengths[b]) if key in x]
-            if given:
-                value[k] = min(given)
-        out[key] = value
+        # each body's value is its own, else the file's, else the default; a contact takes the
+        # smaller of its two bodies' (a stronger body never lends its strength to a weaker one)
+        mine = np.array([x.get(key, top.get(key, defaults[key])) for x in body_strengths], dtype=float)
+        out[key] = np.minimum(mine[np.asarray(ia, dtype=int)], mine[np.asarray(ib, dtype=int)]) if len(ia) else \
+            np.full(0, top.get(key, defaults[key]))
     pair = {}
     for k, (a, b) in enumerate(zip(ia, ib)):
         pair.setdefault(frozenset((ids[a], ids[b])), []).append(k)
+    named = {}
     for pos, joint in enumerate(joints):
         at = f"{where}: joints[{pos}]"
         json_object(joint, at, "joint", ("between", *fields))
@@ -203,6 +203,14 @@ def joint_strengths(spec, where, ids, body_strengths, ia, ib, defaults, fields=S
         if ks is None:
             raise InputError(f"{at}: '{between[0]}' and '{between[1]}' share no contact; expected two bodies "
                              "that touch")
-        for key, value in strengths(joint, at, fields).items():
+        key_pair = frozenset(map(str, between))
+        if key_pair in named:
+            raise InputError(f"{at}: the joint between '{between[0]}' and '{between[1]}' again (joints[{named[key_pair]}]); "
+                             "expected each joint once")
+        named[key_pair] = pos
+        given = strengths(joint, at, fields)
+        if not given:
+            warnings.warn(f"{at}: no strength given ({', '.join(fields)}); the joint keeps its bodies'", stacklevel=4)
+        for key, value in given.items():
             out[key][ks] = value
     return out

@@ -35,7 +35,8 @@ at the centroid of the polygon. Optional, at the top level (:mod:`lamodel.loads`
 Joints (:mod:`lamodel.formulation.joints`). ``"fc"`` (compressive strength; omitted: no
 crushing), ``"ft"`` (tensile strength), ``"cohesion"`` and ``"thickness"`` (the joints'
 width out of the plane, default 1) at the top level hold for every contact; on a body, for
-its contacts (a contact takes the smaller value of its two bodies); in ``"joints": [{"between":
+its contacts (a contact takes the smaller value of its two bodies, a body without its own
+having the file's); in ``"joints": [{"between":
 ["b1", "b2"], "fc": ...}]``, for the contact of those two bodies. Stresses are in the
 file's force per length squared (kN and m: kPa).
 

@@ -166,3 +166,32 @@ def test_study_varies_the_compressive_strength():
     assert np.all(variant.fc == 20) and not s.has_materials
     with pytest.raises(InputError, match="vary.fc has -1; expected compressive strengths > 0"):
         study_from_dict({"name": "x", "vary": {"fc": [10, -1]}}, s, where="spec")
+
+
+def test_a_joint_takes_the_weaker_of_its_bodies_with_the_files_values_as_theirs():
+    """A body without its own strength has the file's: a stronger neighbour does not lend
+    it its strength (b1's file values 10, 0.05, 0.1 against b2's own 50, 0.4, 1)."""
+    d = spec(fc=10.0, ft=0.05, cohesion=0.1)
+    d["blocks"][1].update(fc=50.0, ft=0.4, cohesion=1.0)
+    s = structure_from_json(d)
+    ab, gb = contact(s, "a", "b"), contact(s, "ground", "b")
+    assert (s.fc[ab], s.ft[ab], s.cohesion[ab]) == (10.0, 0.05, 0.1)
+    assert (s.fc[gb], s.ft[gb], s.cohesion[gb]) == (10.0, 0.05, 0.1)   # the ground has the file's too
+    d = spec()
+    d["blocks"][0]["cohesion"] = 0.3   # mortar on a's joints only where both sides have it
+    s = structure_from_json(d)
+    assert s.cohesion[contact(s, "a", "b")] == 0.0
+
+
+def test_a_joint_given_twice_is_refused_and_one_without_strengths_is_said():
+    with pytest.raises(InputError, match=r"joints\[1\]: the joint between 'b' and 'a' again \(joints\[0\]\)"):
+        structure_from_json(spec(joints=[{"between": ["a", "b"], "fc": 10}, {"between": ["b", "a"], "fc": 1}]))
+    with pytest.warns(UserWarning, match=r"joints\[0\]: no strength given"):
+        structure_from_json(spec(joints=[{"between": ["a", "b"]}]))
+
+
+def test_a_dat_table_that_gives_a_contact_twice_on_one_line_is_refused(tmp_path):
+    path = tmp_path / "p.dat"
+    path.write_text((INSTANCES / "portal.dat").read_text() + "param: fc := c1 20 c1 5 ;\n")
+    with pytest.raises(InputError, match="'c1' is given twice in the table of fc"):
+        read_dat(path)
