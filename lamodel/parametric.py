@@ -118,6 +118,11 @@ def study_from_dict(spec: dict, structure: Structure, where: str = "study spec")
         fcs = numbers(vary["fc"], f"{where}: vary.fc")
         if min(fcs) <= 0:
             raise InputError(f"{where}: vary.fc has {min(fcs):g}; expected compressive strengths > 0")
+        ft = np.asarray(getattr(structure, "ft", None) if getattr(structure, "ft", None) is not None else [],
+                        dtype=float)[:joint_places(structure)]
+        if ft.size and min(fcs) < ft.max():   # checked here, not found by every variant's worker
+            raise InputError(f"{where}: vary.fc has {min(fcs):g}, below the tensile strength {ft.max():g} of "
+                             f"'{structure.name}'; expected compressive strengths >= ft")
         grid.append(("fc", fcs))
     if "load_angle" in vary:
         grid.append(("load_angle", numbers(vary["load_angle"], f"{where}: vary.load_angle")))

@@ -149,6 +149,13 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         if asked:
             from ..variants import with_strengths
             structure = with_strengths(structure, **asked)
+        if prove is not None and getattr(structure, "has_materials", False):
+            said = ("--prove: the proven lower bound knows dry joints only; alpha_lower is not computed for "
+                    "joints with strengths")
+            if warn is not None:
+                warn(said)
+            else:
+                warnings.warn(said, stacklevel=2)
         if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
             return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
                                        report=report, animate=animate, moving=(rolling, axles, positions),

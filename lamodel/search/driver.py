@@ -276,7 +276,8 @@ def _polish_plan(structure, opt, budget, workers) -> dict:
     from .gap import formulation_of
     explicit = opt.starts is not None
     n = opt.starts if explicit else DEFAULT_STARTS
-    if not formulation_of(structure).polish:
+    polish = formulation_of(structure).polish
+    if not polish and not explicit:
         n = 0
     est = ipopt_seconds(structure.n_blocks)
     workers = max(1, min(workers, n or 1))
@@ -284,6 +285,10 @@ def _polish_plan(structure, opt, budget, workers) -> dict:
     most = budget.polish_seconds()
     if n == 0:
         plan["run"] = False
+    elif not polish:   # asked for: each start's row says why it did not run
+        where = "in space" if getattr(structure, "dimension", 2) == 3 else "for joints with strengths"
+        plan["run"], plan["reserve"], plan["why"] = False, 0.0, (f"skipped: no Ipopt polish {where} (the Pyomo "
+                                                                 "model of eq. 5 has dry joints in the plane)")
     elif most is not None and est > most:
         plan["run"], plan["why"] = False, (f"skipped: Ipopt on {structure.n_blocks} blocks takes about {est:.3g} s "
                                            f"a start (estimated), over half the time limit")

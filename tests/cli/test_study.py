@@ -142,3 +142,16 @@ def test_a_structure_of_load_cases_is_refused_by_a_study_and_by_solve(tmp_path):
         assert not (tmp_path / "out").exists()
         with pytest.raises(InputError, match=re.escape(words)):
             solve(read(path), SolveOptions(starts=0))
+
+
+def test_a_compressive_strength_below_the_tensile_one_is_bad_input_not_a_worker_failure(tmp_path):
+    structure = tmp_path / "s.json"
+    structure.write_text(json.dumps({"name": "s", "mu": 0.6, "ft": 2.0, "fc": 20.0, "blocks": [
+        {"id": "ground", "vertices": [[-2, -1], [2, -1], [2, 0], [-2, 0]], "support": True},
+        {"id": "b1", "vertices": [[-0.5, 0], [0.5, 0], [0.5, 1], [-0.5, 1]]}]}))
+    study = tmp_path / "study.json"
+    study.write_text(json.dumps({"structure": str(structure), "vary": {"fc": [5, 1]}}))
+    res = lamodel("study", study, "--out", tmp_path / "out", timeout=60)
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1 and "vary.fc has 1, below the tensile strength 2" in lines[0]
+    assert not (tmp_path / "out").exists()

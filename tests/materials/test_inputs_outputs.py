@@ -195,3 +195,16 @@ def test_a_dat_table_that_gives_a_contact_twice_on_one_line_is_refused(tmp_path)
     path.write_text((INSTANCES / "portal.dat").read_text() + "param: fc := c1 20 c1 5 ;\n")
     with pytest.raises(InputError, match="'c1' is given twice in the table of fc"):
         read_dat(path)
+
+
+def test_ipopt_starts_and_the_lower_bound_asked_for_with_strengths_are_said_not_dropped(block_file, tmp_path,
+                                                                                      capsys):
+    """The Pyomo model of eq. 5 and the proven lower bound know dry joints only: with
+    strengths each asked start has its runs.csv row saying why it did not run, and --prove
+    is a warning (alpha_lower empty), not silence."""
+    out = tmp_path / "out"
+    assert command("solve", [str(block_file), "--fc", "10", "--starts", "2", "--prove", "5", "--out", str(out),
+                             "--no-plot", "--workers", "1", "--quiet"]) == 0
+    runs = pd.read_csv(out / "runs.csv")
+    assert len(runs) == 3 and runs["status"].iloc[1:].str.startswith("skipped: no Ipopt polish for joints").all()
+    assert "--prove: the proven lower bound knows dry joints only" in capsys.readouterr().err
