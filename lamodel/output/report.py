@@ -94,6 +94,26 @@ def lower_bound_columns(outcome: Outcome, prove: float | None = None, beside=Non
                          outcome.wall_time_s, prove, beside)
 
 
+def _stoppable_bound(structure, upper: float, limits: dict):
+    """:func:`lamodel.bound.lower_bound` under ``limits``, ended by a stop signal as a search
+    is (it keeps what it proved: the bound is anytime), so that the run still writes the
+    state its search certified (the command then exits with 128 + the signal)."""
+    import threading
+
+    from ..bound.lower import lower_bound
+    from ..search.options import Deadline
+    from ..signals import catch_sigint, restore_sigint, stop_signal
+    stop = threading.Event()
+    if stop_signal() is not None:   # a signal that stopped the search: no bound after it
+        stop.set()
+    caught = catch_sigint(stop.set)
+    try:
+        rest = {k: v for k, v in limits.items() if k != "budget"}
+        return lower_bound(structure, upper, deadline=Deadline.after(limits.get("budget"), stop.is_set), **rest)
+    finally:
+        restore_sigint(caught)
+
+
 def bound_columns(structure, upper: float, certified: bool, search_seconds: float,
                   prove: float | None = None, beside=None) -> dict:
     """The columns of :func:`lower_bound_columns` for any structure (plane or space) whose
@@ -101,7 +121,7 @@ def bound_columns(structure, upper: float, certified: bool, search_seconds: floa
     ``beside``: a :class:`~lamodel.bound.beside.BoundBeside` the search started (its
     bound, topped by the associative multiplier, replaces the default one; with ``prove``
     it is stopped: the branch-and-bound searches below the certified alpha only)."""
-    from ..bound.lower import default_budget, lower_bound, proves
+    from ..bound.lower import default_budget, proves
     lb = None
     if beside is not None:
         if np.isfinite(upper) and prove is None:
@@ -114,6 +134,6 @@ def bound_columns(structure, upper: float, certified: bool, search_seconds: floa
                 "alpha_lower_check": "none"}
     if lb is None:
         limits = {"budget": prove} if prove is not None else default_budget(search_seconds, structure)
-        lb = lower_bound(structure, upper, **limits)
+        lb = _stoppable_bound(structure, upper, limits)
     return {"alpha_lower": lb.alpha_lower + 0.0, "proven_global": certified and proves(lb.alpha_lower, upper),
             "alpha_lower_seconds": lb.time, "alpha_lower_check": lb.exact_check}

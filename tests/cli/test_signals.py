@@ -355,3 +355,26 @@ def test_a_stop_signal_ends_positions_solved_side_by_side(tmp_path, sig):
     assert status[:2] == ["interrupted", "certified"] and status[2] in ("interrupted", "not run"), status
     assert status[3] == "not run", status
     assert not df.loc[df["status"] == "not run", "certified"].any()
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_stop_signal_during_the_proven_bound_keeps_the_certified_state(tmp_path, sig):
+    """--prove runs the bound after the search: a signal then ends the bound (what it proved
+    is kept: it is anytime), the folder is written with the search's certified state, and
+    the run exits with 128 + the signal within seconds (it exited 143 with nothing written)."""
+    out = tmp_path / "out"
+    p = start("solve", INSTANCES / "wall33.json", "--out", out, "--no-plot", "--prove", "120", "-v")
+    line = ""
+    deadline = time.monotonic() + 120
+    while "certified: alpha" not in line and time.monotonic() < deadline:   # the search's last log line
+        line = p.stderr.readline()
+    assert "certified: alpha" in line
+    time.sleep(1.0)   # the bound runs
+    sent = time.monotonic()
+    p.send_signal(sig)
+    p.communicate(timeout=30)
+    assert p.returncode == 128 + sig and time.monotonic() - sent < 10
+    summary = pd.read_csv(out / "summary.csv").iloc[0]
+    assert summary["certified"] and summary["alpha"] == pytest.approx(0.638982, abs=1e-6)
+    assert summary["alpha_lower_seconds"] < 60
+    assert check_folder(out) == pytest.approx(summary["alpha"], rel=1e-9)
