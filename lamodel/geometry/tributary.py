@@ -3,7 +3,8 @@
 A joint's strengths act on its contact points as forces: the crushing cap ``f_c A_i``,
 the tensile cap ``f_t A_i`` and the cohesion ``c0 A_i`` of point i. Its area A_i is its
 **Voronoi cell clipped to the interface polygon**: the part of the joint nearer to it than
-to any other point of the same interface (shapely's Voronoi diagram). The areas of an
+to any other point of the same interface (the joint cut by the half-plane on its side of
+each bisector, shapely's intersections). The areas of an
 interface add up to its polygon's area (holes excluded); on a rectangle's four corners
 each takes a quarter; with interior points (``"contact_points": "grid:n"``) the corners
 keep the small cells at the corners and the interior points the rest, so the caps follow
@@ -36,13 +37,26 @@ def tributary_areas(shape, xy: np.ndarray) -> np.ndarray:
     key = np.round(xy / (1e-9 * scale)).astype(np.int64)
     uniq, first, which = np.unique(key, axis=0, return_index=True, return_inverse=True)
     which = which.reshape(-1)
-    if len(uniq) == 1:
-        cells = [shape]
-    else:
-        pts = shapely.multipoints(xy[first])
-        cells = shapely.get_parts(shapely.voronoi_polygons(pts, extend_to=shape, ordered=True))
-    area = np.array([shapely.intersection(c, shape).area for c in cells])
+    sites = xy[first]
+    area = np.array([_cell(shape, sites, i).area for i in range(len(sites))])
     return area[which] / np.bincount(which)[which]
+
+
+def _cell(shape, sites: np.ndarray, i: int):
+    """Site i's Voronoi cell within ``shape``: the shape cut by the half-plane nearer to site
+    i than to each other site. (GEOS's Voronoi diagram, on the four cocircular corners of a
+    rectangle, gave one corner three quarters of the joint and the areas a sum above its
+    area, changing with where the joint lies.)"""
+    others = np.delete(sites, i, axis=0)
+    if not len(others):
+        return shape
+    x0, y0, x1, y1 = shape.bounds
+    big = 4.0 * max(x1 - x0, y1 - y0, float(np.ptp(sites, axis=0).max()), 1e-300)
+    p = sites[i]
+    n = (others - p) / np.linalg.norm(others - p, axis=1)[:, None]   # towards each other site
+    m, t = (p + others) / 2, np.column_stack([-n[:, 1], n[:, 0]]) * big
+    halves = shapely.polygons(np.stack([m + t, m - t, m - t - n * big, m + t - n * big], axis=1))
+    return shapely.intersection_all(np.append(halves, shape))
 
 
 def areas_in_frame(shape, frame, points: np.ndarray) -> np.ndarray:

@@ -211,6 +211,23 @@ def test_tributary_areas():
     assert point_areas([rect], [0] * 4, rect, [[hole]]).sum() == pytest.approx(2.0 - 0.08)
 
 
+@pytest.mark.parametrize("shift", [(0, 0, 0), (1000, -500, 20), (0.37, 2.1, -3)])
+@pytest.mark.parametrize("turn", [0.0, 33.0, 90.0])
+def test_the_points_of_a_vertical_joint_share_its_area_wherever_it_stands(shift, turn):
+    """The four corners of a 0.3 x 0.5 vertical joint (cocircular: a degenerate Voronoi
+    diagram) take a quarter each, and a 3 x 3 grid's areas add up to the joint's, wherever
+    the joint stands and however it is turned (one corner took three quarters, the sum
+    was 0.225, by where the joint lay)."""
+    c, s = np.cos(np.radians(turn)), np.sin(np.radians(turn))
+    corners = np.array([[1, 0, 0], [1, 0.3, 0], [1, 0.3, 0.5], [1, 0, 0.5]], float)
+    turned = corners @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]) + np.array(shift, float)
+    assert np.allclose(point_areas([turned], [0] * 4, turned), 0.0375, rtol=1e-9)
+    u, v = turned[1] - turned[0], turned[3] - turned[0]
+    grid = np.array([turned[0] + a * u + b * v for a in (0.0, 0.5, 1.0) for b in (0.0, 0.5, 1.0)])
+    areas = point_areas([turned], [0] * 9, grid)
+    assert areas.sum() == pytest.approx(0.15, rel=1e-9) and np.allclose(areas[4], 0.0375)
+
+
 def test_grid_points_converge_to_the_stress_block():
     """The box with a grid:n base (fc = 16, W = 8): alpha tends to the planar stress
     block's (A / 2 - W / (2 fc B)) / (H / 2) = 0.375 as n grows (the docs' table)."""
