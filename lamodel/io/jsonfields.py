@@ -29,8 +29,17 @@ def load_spec(source):
     text = read_text(path, "JSON geometry file")
     if not text.strip():
         raise InputError(f"{where}: the file is empty; expected a JSON object describing the blocks")
+    twice = []
+
+    def pairs(items):  # a key given twice in one object: JSON keeps the last, silently
+        out = {}
+        for key, value in items:
+            if key in out:
+                twice.append(key)
+            out[key] = value
+        return out
     try:
-        spec = json.loads(text)
+        spec = json.loads(text, object_pairs_hook=pairs)
     except json.JSONDecodeError as exc:
         raise InputError(f"{where}: malformed JSON at line {exc.lineno}, column {exc.colno} ({exc.msg}); "
                          "expected a JSON object describing the blocks") from None
@@ -40,6 +49,8 @@ def load_spec(source):
     if not isinstance(spec, dict):
         kind = "null" if spec is None else type(spec).__name__
         raise InputError(f"{where}: the file holds a JSON {kind}; expected a JSON object with a 'blocks' list")
+    for key in dict.fromkeys(twice):
+        warnings.warn(f"{where}: '{key}' is given twice in one object; the last value is used", stacklevel=3)
     if "name" not in spec:
         spec = dict(spec, name=path.stem)
     return spec, where

@@ -151,7 +151,9 @@ def solve(structure: Structure | Structure3D, options: SolveOptions | None = Non
     if record is not None and record.best_user is not None and status in (NOT_CERTIFIED, CERTIFIED):
         status = CERTIFIED
     if budget.asked():
-        status, message = INTERRUPTED, "interrupted: the best certified state so far is reported"
+        status, message = INTERRUPTED, ("interrupted: the best certified state so far is reported"
+                                        if record is not None and record.best_user is not None
+                                        else "interrupted before any state was certified")
     elif status == CERTIFIED:
         message = "certified collapse state"
     if status in (CERTIFIED, INTERRUPTED, NOT_CERTIFIED) and budget.expired() and not budget.asked():

@@ -576,3 +576,19 @@ def test_a_turned_live_load_turns_the_moments_of_its_point_loads():
             {"block": "a", "at": [1, 0.5], "force": [0.5 * c - 0.2 * s, 0.5 * s + 0.2 * c]}]))
         assert np.allclose(turned.live, want.live) and np.allclose(turned.live_m, want.live_m)
         assert np.allclose([p.force for p in turned.point_loads], [p.force for p in want.point_loads])
+
+
+def test_a_key_given_twice_in_one_object_is_said(tmp_path):
+    path = tmp_path / "twice.json"
+    path.write_text('{"name": "t", "mu": 0.6, "mu": 0.01, "blocks": [' + json.dumps(ground()) + ", "
+                    + json.dumps({"id": "a", "vertices": rect(0, 0, 1, 1)}) + "]}")
+    with pytest.warns(UserWarning, match="'mu' is given twice in one object; the last value is used"):
+        s = structure_from_json(path)
+    assert np.all(s.mu == 0.01)
+
+
+def test_a_solve_stopped_before_any_certificate_says_so():
+    from lamodel.search.driver import SolveOptions, solve
+    o = solve(structure_from_json(INSTANCES / "wall33.json"), SolveOptions(starts=0), stop=lambda: True)
+    assert o.status == "interrupted" and o.best is None
+    assert o.message == "interrupted before any state was certified"

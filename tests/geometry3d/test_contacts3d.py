@@ -200,3 +200,10 @@ def test_faces_tilted_within_the_tolerance_touch_wherever_their_origins_are():
     pairs = [tuple(sorted(p)) for p in zip(s.iface_a, s.iface_b)]
     assert ("cube", "top") in pairs
     assert interface_areas(s)[pairs.index(("cube", "top"))] == pytest.approx(1.0, rel=1e-4)
+
+
+@pytest.mark.parametrize("mode", ["grid:0", "grid:65", "grid:100000", "grid:x"])
+def test_a_contact_grid_beyond_its_bound_is_refused_in_a_line(mode):
+    """grid:100000 asked 149 GiB; n from 1 to GRID_MAX is a choice, past it an input error."""
+    with pytest.raises(InputError, match="with a whole n from 1 to 64"):
+        structure3d_from_spec(dict(stack_spec(), contact_points=mode))
