@@ -137,10 +137,14 @@ def read_compas(path, name=None, tolerance=None, contact_points=None, units=None
 
 # ----------------------------------------------------------------------------- meshes
 def mesh_spec(path, where: str) -> dict:
-    """A 3D spec (geometry only) from a mesh file: one block per connected component."""
+    """A 3D spec (geometry only) from a mesh file: one block per connected component of each
+    of its geometries (an OBJ's objects apart)."""
     import trimesh
+    # an OBJ's objects ("o" lines) are kept apart: welded together, stacked blocks that share
+    # corners became one component, one block
+    split = {"split_objects": True} if Path(path).suffix.lower() == ".obj" else {}
     try:
-        loaded = trimesh.load(str(path), process=False)
+        loaded = trimesh.load(str(path), process=False, **split)
     except Exception as exc:  # trimesh raises many kinds for a bad file
         raise InputError(f"{where}: cannot read the mesh ({str(exc).splitlines()[0][:80] if str(exc) else type(exc).__name__}); "
                          "expected an OBJ, PLY, STL or glTF file") from None
@@ -157,9 +161,7 @@ def mesh_spec(path, where: str) -> dict:
         edges = np.r_[f[:, [0, 1]], f[:, [1, 2]]]
         graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(len(v), len(v)))
         n, label = connected_components(graph, directed=False)
-        for k in range(n if len(meshes) == 1 else 1):   # several geometries: each is one block
-            if len(meshes) > 1:
-                label[:] = k
+        for k in range(n):   # each connected component of each geometry (an OBJ object, a glTF node) a block
             keep = np.flatnonzero(label == k)
             faces = f[label[f[:, 0]] == k]
             if not len(faces):

@@ -222,3 +222,20 @@ def test_lamodel_build_reads_a_mesh_with_its_options(tmp_path):
     assert "8 blocks, 1 supports, 16 interfaces, 128 contact points" in out.stdout   # 4 corners + 4 grid points
     out = subprocess.run(run, capture_output=True, text=True, env=env, timeout=120)
     assert out.returncode == 2 and "no block is a support" in out.stderr
+
+
+def test_an_obj_of_objects_that_share_corners_gives_a_block_each(tmp_path):
+    """Three boxes stacked, one OBJ object ("o") each: corners shared by the boxes above and
+    below were welded into one component (the file was refused as misoriented); each object
+    is now a block of its own."""
+    faces = ["1 4 3 2", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8"]
+    lines = []
+    for k, (name, z0, z1) in enumerate((("ground", -1, 0), ("a", 0, 1), ("b", 1, 2))):
+        lines.append(f"o {name}")
+        lines += [f"v {x} {y} {z}" for z in (z0, z1) for x, y in ((0, 0), (1, 0), (1, 1), (0, 1))]
+        lines += ["f " + " ".join(str(int(i) + 8 * k) for i in f.split()) for f in faces]
+    path = tmp_path / "stack.obj"
+    path.write_text("\n".join(lines) + "\n")
+    s = read(path, supports_below=-0.5)
+    assert s.n_blocks == 2 and len(s.supports) == 1
+    assert sorted(np.round(s.centroid[:, 2], 9).tolist()) == [0.5, 1.5]
