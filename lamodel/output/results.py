@@ -381,6 +381,12 @@ class Results:
         for table, (name, _, _) in TABLES.items():
             f = folder / name
             frames[table] = _canonical(_read_table(f), table, str(f))
+        summary = frames["summary"].iloc[0]
+        for table, count in (("blocks", "n_blocks"), ("contacts", "n_contacts")):   # a half-written folder
+            said = pd.to_numeric(summary.get(count), errors="coerce")
+            if pd.notna(said) and len(frames[table]) != int(said):
+                raise InputError(f"{folder / TABLES[table][0]}: {len(frames[table])} rows where summary.csv says "
+                                 f"{count} = {int(said)}; expected the folder as lamodel wrote it")
         return cls(**frames)
 
     # ------------------------------------------------------------------ quick access

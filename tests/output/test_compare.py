@@ -185,3 +185,12 @@ def test_results_in_other_units_differ():
     assert compare_results(kn, bare, 1e-5)[1] and table.loc["units", "B"] == "length mm, force N"
     assert not compare_results(kn, in_units("m", "kN"), 1e-5)[1]
     assert compare_results(bare, toy(), 1e-5)[0].loc["units", "A"] == "none"
+
+
+def test_a_half_written_folder_is_bad_input_not_another_structure(tmp_path, capsys):
+    toy().write(tmp_path / "a")
+    toy().write(tmp_path / "b")
+    contacts = tmp_path / "b" / "contacts.csv"
+    contacts.write_text("\n".join(contacts.read_text().splitlines()[:3]) + "\n")
+    code, out, err = run_main(capsys, tmp_path / "a", tmp_path / "b")
+    assert code == 2 and "2 rows where summary.csv says n_contacts = 4" in err
