@@ -23,6 +23,7 @@ below Z).
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -202,7 +203,12 @@ def read_3d_spec(data, path, **options):
     if not is_3d_spec(data):
         return None
     if options.get("units"):
-        data["units"] = dict(options.pop("units"))
+        given, own = dict(options.pop("units")), data.get("units") if isinstance(data.get("units"), dict) else {}
+        for key, unit in given.items():
+            if own.get(key) not in (None, unit):   # labels only: the numbers are not converted
+                warnings.warn(f"{path}: --{key}-unit {unit} replaces the file's {key} unit {own[key]}; its numbers "
+                              "are read unchanged, as that unit", stacklevel=2)
+        data["units"] = {**own, **given}
     spec_keys = ("tolerance", "contact_points")
     extra = sorted(set(options) - set(spec_keys))
     if extra:

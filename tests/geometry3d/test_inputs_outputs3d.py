@@ -239,3 +239,11 @@ def test_an_obj_of_objects_that_share_corners_gives_a_block_each(tmp_path):
     s = read(path, supports_below=-0.5)
     assert s.n_blocks == 2 and len(s.supports) == 1
     assert sorted(np.round(s.centroid[:, 2], 9).tolist()) == [0.5, 1.5]
+
+
+def test_a_unit_option_against_the_files_own_unit_is_said(tmp_path):
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(dict(stack_spec(), units={"length": "mm", "force": "kN"})))
+    with pytest.warns(UserWarning, match="--length-unit m replaces the file's length unit mm"):
+        s = read(path, units={"length": "m"})
+    assert s.units == {"length": "m", "force": "kN"}
