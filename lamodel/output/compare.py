@@ -51,7 +51,8 @@ import pandas as pd
 
 from ..errors import InputError
 from .folder import TABLE_FILES
-from .results import Results, _canonical, _read_table, _summary_folder
+from .results import Results, _canonical
+from .tablefiles import read_table as _read_table, summary_folder as _summary_folder
 
 DEFAULT_ATOL = 1e-5
 FORCE_COLUMNS = ("N", "V", "M")

@@ -15,7 +15,8 @@ import pandas as pd
 
 from ..io.files import atomic_write
 from .report import outcome_results
-from .results import FLOAT_FORMAT, Results
+from .results import Results
+from .tablefiles import FLOAT_FORMAT
 
 METHOD_COLUMNS = ("method", "alpha_raw", "alpha_certified", "certified", "gap_to_best", "seconds", "iterations",
                   "notes")

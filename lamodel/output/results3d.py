@@ -38,7 +38,7 @@ from ..io.files import atomic_write
 from ..search.state import CERTIFIED, NOT_CERTIFIED
 from ..structure3d import Structure3D
 from .methods import METHOD_COLUMNS
-from .results import FLOAT_FORMAT
+from .tablefiles import FLOAT_FORMAT
 from .tables3d import blocks_table, contacts_table
 from .words import stall_columns
 
