@@ -102,7 +102,6 @@ def write_dat(structure: Structure, path) -> str:
 
 def _scan_duplicates(path: str, text: str):
     """Pyomo keeps the last of two rows with the same key; a user deserves an error."""
-    _scan_duplicate_keys(path, text)
     header = None
     seen = {}
     for lineno, raw in enumerate(text.splitlines(), start=1):
@@ -137,48 +136,29 @@ def _scan_duplicates(path: str, text: str):
                 raise InputError(f"{path}, line {lineno}: set {m.group(1)} lists '{sorted(dup)[0]}' twice; expected unique ids")
 
 
-def _scan_duplicate_keys(path: str, text: str):
-    """As :func:`_scan_duplicates`, for rows that share a line (``param: fc := c1 20 c1 5 ;``):
-    each table's entries cut into rows of its width (the key and one value per column)."""
-    header, tokens = None, []
-    for lineno, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        m = re.match(r"param\s*:(.*):=\s*(.*)$", line)
-        if m:
-            header, tokens, line = m.group(1), [], m.group(2).strip()
-        if header is None or not line:
-            continue
-        tokens += [(lineno, t) for t in line.split(";", 1)[0].split()]
-        if ";" in line:
-            names = header.replace(":", " ").split()
-            key_width = 2 if header.strip().startswith("VERTICES") else 1
-            width = key_width + len(names) - (1 if key_width == 2 else 0)
-            seen = {}
-            for r in range(0, len(tokens) - width + 1, width):
-                key = tuple(t for _, t in tokens[r:r + key_width])
-                if key in seen:
-                    values = names[1:] if key_width == 2 else names
-                    raise InputError(f"{path}, line {tokens[r][0]}: '{' '.join(key)}' is given twice in the table of "
-                                     f"{', '.join(values)} (first on line {seen[key]}); expected one row per key")
-                seen[key] = tokens[r][0]
-            header = None
-
-
 def _scan_row_widths(path: str, text: str):
     """Pyomo silently drops a trailing value too many, or shifts every following row by
     one; a user deserves an error naming the row. A table whose number of values is a
-    multiple of its row width is accepted (rows may be wrapped over lines)."""
+    multiple of its row width is accepted (rows may be wrapped over lines, or share one);
+    its rows cut so, a key given twice is an error too (Pyomo keeps the last)."""
     header, rows = None, []
 
     def check():
         names = header.replace(":", " ").split()  # an indexed table ('VERTICES: vx vy') has a 2-part key
         width = len(names) + 1
+        values = names[1:] if header.strip().startswith("VERTICES") else names
         if sum(len(t) for _, t in rows) % width:
             lineno, tokens = next(((n, t) for n, t in rows if len(t) != width), rows[-1])
-            values = names[1:] if header.strip().startswith("VERTICES") else names
             raise InputError(f"{path}, line {lineno}: row '{' '.join(tokens[:width - len(values)])}' of the table of "
                              f"{', '.join(values)} has {len(tokens)} entries; expected {width} "
                              "(the key and one value per column)")
+        cells, seen = [(n, t) for n, tokens in rows for t in tokens], {}
+        for r in range(0, len(cells), width):
+            key = tuple(t for _, t in cells[r:r + width - len(values)])
+            if key in seen:
+                raise InputError(f"{path}, line {cells[r][0]}: '{' '.join(key)}' is given twice in the table of "
+                                 f"{', '.join(values)} (first on line {seen[key]}); expected one row per key")
+            seen[key] = cells[r][0]
 
     for lineno, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].strip()
