@@ -384,6 +384,9 @@ def _spec_of_structure(s: Structure) -> dict:
         own[f"{p.kind}_m"][j] -= moment(p.at, s.centroid[j], f)
         loads.append({"block": p.block, "at": [float(v) for v in p.at], "force": [float(v) for v in f],
                       **({"kind": "dead"} if p.kind == "dead" else {})})
+    force = max(float(np.abs(s.dead).max(initial=0.0)), float(np.abs(s.live).max(initial=0.0)), 1e-300)
+    for key, scale in (("dead", force), ("live", force), ("dead_m", force * s.size()), ("live_m", force * s.size())):
+        own[key][np.abs(own[key]) < 1e-13 * scale] = 0.0   # what the point loads leave: round-off is none
     for b in s.polygons:  # the file's order of bodies: contacts found again in the same order, same ids
         if b in index:
             j = index[b]
