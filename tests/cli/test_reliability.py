@@ -194,11 +194,12 @@ def test_compare_refuses_a_device_and_an_oversized_table_before_reading(tmp_path
     os.symlink("/dev/zero", tmp_path / "z" / "summary.csv")
     res = lamodel("compare", tmp_path / "a", tmp_path / "z" / "summary.csv", timeout=60)
     assert res.returncode == 2 and "not a regular file" in res.stderr, res.stderr
-    import lamodel.output.results as results
+    import lamodel.output.tablefiles as tablefiles
     from lamodel.errors import InputError
-    monkeypatch.setattr(results, "MAX_TABLE_BYTES", 100)
+    from lamodel.output.results import Results
+    monkeypatch.setattr(tablefiles, "MAX_TABLE_BYTES", 100)
     with pytest.raises(InputError, match="MB; expected a result table of at most"):
-        results.Results.read(tmp_path / "a")
+        Results.read(tmp_path / "a")
 
 
 @pytest.mark.slow
