@@ -88,12 +88,12 @@ def picture_svg(outcome, results, dead_u=None) -> str:
 
 
 def write_extras(paths: dict, outcome, results, words, dead_u=None, study=None, source="", command="",
-                 painter=None):
+                 painter=None, strengths=None):
     """The picture, the animation and the HTML report, each to its path in ``paths``
     (keys picture, animation, report; a missing key: not written); the picture by
     ``painter`` (:class:`lamodel.output.painter.Painter`) if given. ``study``: the
-    load-case or rolling table of :func:`write_study_files`; ``source`` and ``command``
-    are named in the report."""
+    load-case or rolling table of :func:`write_study_files`; ``source``, ``command`` and
+    the what-ifs on the joints' ``strengths`` are named in the report."""
     picture = picture_of(outcome, results, dead_u)
     if "picture" in paths:
         if painter is not None:
@@ -109,7 +109,8 @@ def write_extras(paths: dict, outcome, results, words, dead_u=None, study=None, 
         from .html import write_report
         write_report(paths["report"], outcome.structure, results, words, picture_svg(outcome, results, dead_u),
                      command, str(source),
-                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]))
+                     study=None if study is None else (study["title"], study["key"], study["table"], study["svg"]),
+                     strengths=strengths)
 
 
 def write_study_files(study: dict, folder, structure) -> dict:

@@ -2,7 +2,7 @@
 
 Sections: the result (summary), the mechanism (picture and words), the load cases or the
 rolling load (table and plot) when there are any, the joints that move, the inputs and
-units, lamodel's version and the command. Nothing is fetched from elsewhere: the file can
+units (with the joints' strengths: :mod:`lamodel.output.materials`), lamodel's version and the command. Nothing is fetched from elsewhere: the file can
 be mailed or archived as it is.
 """
 from __future__ import annotations
@@ -51,8 +51,11 @@ def table_html(df: pd.DataFrame, highlight=None) -> str:
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
 
 
-def report_html(structure, results, words, picture_svg, command, source, study=None) -> str:
-    """The report's text. ``study`` is None or (title, key column, table, plot svg)."""
+def report_html(structure, results, words, picture_svg, command, source, study=None, strengths=None) -> str:
+    """The report's text. ``study`` is None or (title, key column, table, plot svg);
+    ``strengths``: the what-ifs on the joints' strengths given on the command line
+    (:func:`lamodel.output.materials.strength_inputs`)."""
+    from .materials import strength_inputs
     s = structure
     summary = results.summary.T.reset_index()
     summary.columns = ["quantity", "value"]
@@ -77,7 +80,7 @@ def report_html(structure, results, words, picture_svg, command, source, study=N
         ("force unit", units.get("force", "- (dimensionless)")),
         ("total dead load (fx, fy)", f"({s.dead[:, 0].sum():.6g}, {s.dead[:, 1].sum():.6g})"),
         ("total live load (fx, fy), times alpha", f"({s.live[:, 0].sum():.6g}, {s.live[:, 1].sum():.6g})"),
-        ("point loads", len(s.point_loads))], columns=["input", "value"])
+        ("point loads", len(s.point_loads)), *strength_inputs(s, strengths)], columns=["input", "value"])
     parts += ["<h2>Inputs and units</h2>", table_html(inputs)]
     if s.point_loads:
         loads = pd.DataFrame([{"block": p.block, "x": p.at[0], "y": p.at[1], "fx": p.force[0], "fy": p.force[1],

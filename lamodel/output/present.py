@@ -159,10 +159,10 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         if getattr(structure, "dimension", 2) == 3:  # in space: its own use case
             return present3d.analyse3d(structure, options, out, method=method, seed_ga=seed_ga, picture=picture,
                                        report=report, animate=animate, moving=(rolling, axles, positions),
-                                       view=view, echo=echo, prove=prove)
+                                       view=view, echo=echo, prove=prove, strengths=asked)
         present3d.refuse_spatial_options(inputs, view)
         return _analyse(structure, source, options, out, method, seed_ga, picture, report, animate,
-                        (rolling, axles, positions), echo, command, painter, prove)
+                        (rolling, axles, positions), echo, command, painter, prove, asked)
     finally:
         if painter is not None:
             painter.close()
@@ -185,7 +185,7 @@ def _read(source, warn, inputs=None):
 
 
 def _analyse(structure, source, options, out, method, seed_ga, picture, report, animate, moving, echo, command,
-             painter, prove=None):
+             painter, prove=None, strengths=None):
     from ..io.files import safe_folder_name
     from ..loads import with_rolling
     from ..search.driver import solve
@@ -258,11 +258,11 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
             from .methods import write_methods_csv
             write_methods_csv(methods, stage.path)
         command = command or f"lamodel.analyse({str(source)!r})"
-        write_extras(staged, outcome, results, words, dead_u, study, source, command, painter)
+        write_extras(staged, outcome, results, words, dead_u, study, source, command, painter, strengths)
         stage.publish()
     finally:
         stage.discard()
-    write_extras(outside, outcome, results, words, dead_u, study, source, command, painter)
+    write_extras(outside, outcome, results, words, dead_u, study, source, command, painter, strengths)
     shown = {k: out / Path(p).name for k, p in inside.items()} | outside
     return Analysis(structure, outcome, results, words, out, shown, study, methods)
 

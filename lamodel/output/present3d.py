@@ -149,11 +149,12 @@ def _unheld(structure) -> str:
 
 
 def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, picture=True, report=None,
-              animate=None, moving=(None, None, None), view=None, echo=None, prove=None):
+              animate=None, moving=(None, None, None), view=None, echo=None, prove=None, strengths=None):
     """Solve a :class:`lamodel.structure3d.Structure3D` and write its result folder (see the
     module doc); what :func:`lamodel.analyse` does for a 3D input. ``view``: a .html path
     for the browser view (inside ``out`` it is part of the folder). ``prove``: seconds for
     the proven lower bound ``alpha_lower`` (default: :func:`lamodel.bound.lower.default_budget`).
+    ``strengths``: the what-ifs on the joints' strengths already applied, named in the view.
     Returns an :class:`Analysis3D`."""
     from ..bound.beside import BoundBeside
     from ..io.files import safe_folder_name
@@ -201,23 +202,26 @@ def analyse3d(structure, options, out, *, method="lamodel", seed_ga=None, pictur
         words = (describe3d(structure, result.motions, result.modes) + bound_words(pd.DataFrame([summary]))
                  + stall_words(structure, result.stalled))
         write_results3d(stage.path, structure, result, summary, runs, methods)
-        _draw({k: stage.path / Path(p).name for k, p in inside.items()}, structure, result)
+        _draw({k: stage.path / Path(p).name for k, p in inside.items()}, structure, result, strengths)
         stage.publish()
     finally:
         stage.discard()
-    _draw(outside, structure, result)
+    _draw(outside, structure, result, strengths)
     shown = {k: out / Path(p).name for k, p in inside.items()} | outside
     return Analysis3D(structure, result, summary, words, out, shown, methods)
 
 
-def _draw(paths: dict, s, result):
-    """The picture (plot3d) and the browser view (view3d) at their paths."""
+def _draw(paths: dict, s, result, strengths=None):
+    """The picture (plot3d) and the browser view (view3d, its inputs with the joints'
+    strengths and the what-ifs ``strengths``) at their paths."""
     if "picture" in paths:
         from .plot3d import plot_structure3d
         alpha = f"alpha = {result.alpha:.6f}" if result.state is not None else result.status.replace("_", " ")
         plot_structure3d(s, paths["picture"], motions=result.motions, title=f"{s.name}: {alpha}")
     if "view" in paths:
+        from .materials import strength_inputs
         from .view3d import write_view3d
         write_view3d(s, paths["view"], motions=result.motions, modes=result.modes,
                      normal=None if result.state is None else result.state.N,
-                     title=f"{s.name}: alpha = {result.alpha:.6f}" if result.state is not None else s.name)
+                     title=f"{s.name}: alpha = {result.alpha:.6f}" if result.state is not None else s.name,
+                     inputs=strength_inputs(s, strengths))

@@ -60,10 +60,12 @@ def _mesh_trace(go, xyz, tri, colour, opacity, name):
 
 
 def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: float | None = None,
-                 title: str | None = None, normal=None) -> str:
+                 title: str | None = None, normal=None, inputs=None) -> str:
     """Write the interactive view of ``s`` (and of the mechanism ``motions`` (nb, 6), with
     contact-point ``modes`` (np,) such as "open", "slide", and the points' normal forces
-    ``normal`` (np,), < 0 in compression, whose caps are marked) to the HTML file ``path``."""
+    ``normal`` (np,), < 0 in compression, whose caps are marked) to the HTML file ``path``.
+    ``inputs``: rows (name, value) written in a box in the lower left corner (the joints'
+    strengths, :func:`lamodel.output.materials.strength_inputs`)."""
     import plotly.graph_objects as go
 
     u = check_motions(s, motions)
@@ -142,6 +144,12 @@ def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: 
                                                         zaxis_title="z",
                                                         camera=dict(eye=dict(x=0.9, y=-1.6, z=0.9))),
                       margin=dict(l=0, r=0, t=40, b=0), legend=dict(x=0.0, y=0.95))
+    if inputs:
+        import html
+        text = "<br>".join(["<b>inputs</b>"] + [f"{html.escape(k)}: {html.escape(str(v))}" for k, v in inputs])
+        fig.add_annotation(text=text, xref="paper", yref="paper", x=0.0, y=0.0, xanchor="left", yanchor="bottom",
+                           align="left", showarrow=False, font=dict(size=11), bgcolor="rgba(255,255,255,0.8)",
+                           bordercolor="#cccccc", borderwidth=1)
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.write_html(str(path), include_plotlyjs=True, full_html=True, include_mathjax=False,
                    default_height="96vh", default_width="100%",

@@ -208,3 +208,45 @@ def test_ipopt_starts_and_the_lower_bound_asked_for_with_strengths_are_said_not_
     runs = pd.read_csv(out / "runs.csv")
     assert len(runs) == 3 and runs["status"].iloc[1:].str.startswith("skipped: no Ipopt polish for joints").all()
     assert "--prove: the proven lower bound knows dry joints only" in capsys.readouterr().err
+
+
+# ================================================================================ report
+def test_the_report_states_the_joints_strengths_in_the_structures_units(block_file, tmp_path):
+    """Among the report's inputs: each strength in kN/m² (the file's kN and m), the joints a
+    body's own value reaches named, and the what-if of the command line said as such."""
+    path = tmp_path / "pair.json"
+    path.write_text(json.dumps(spec(fc=20.0, units={"length": "m", "force": "kN"}) | {"blocks": [
+        {"id": "a", "vertices": rect(0, 0, 2, 3), "fc": 12.5}, {"id": "b", "vertices": rect(2, 0, 4, 3)},
+        {"id": "ground", "support": True, "vertices": rect(-1, -1, 5, 0)}]}))
+    report = tmp_path / "report.html"
+    assert command("solve", [str(path), "--cohesion", "0.1", "--out", str(tmp_path / "o"), "--report", str(report),
+                             "--workers", "1", "--quiet"]) == 0
+    inputs = report.read_text().split("<h2>Inputs and units</h2>")[1]
+    assert "<td>stress unit</td><td>kN/m²</td>" in inputs
+    assert ("<td>compressive strength fc</td><td>12.5 kN/m² on 2 joints: a|b (c1), ground|a (c2); 20 kN/m² on 1 "
+            "joint: ground|b (c3)</td>") in inputs
+    assert "<td>cohesion c0</td><td>0.1 kN/m² on every joint (3)</td>" in inputs
+    assert "<td>tensile strength ft</td><td>0 kN/m² on every joint (3): no tension</td>" in inputs
+    assert "--cohesion 0.1 (kN/m²) on every joint, replacing the file" in inputs
+    # a dry structure: one line, no strengths
+    dry = tmp_path / "dry.html"
+    assert command("solve", [str(block_file), "--out", str(tmp_path / "d"), "--report", str(dry), "--workers", "1",
+                             "--quiet"]) == 0
+    inputs = dry.read_text().split("<h2>Inputs and units</h2>")[1]
+    assert "<td>joint strengths</td><td>dry joints (eq. 4)" in inputs and "kN/m²" not in inputs
+
+
+def test_the_view_in_space_states_the_joints_strengths(tmp_path):
+    def cuboid(x0, y0, z0, x1, y1, z1):
+        return [[x, y, z] for z in (z0, z1) for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    path = tmp_path / "box.json"
+    path.write_text(json.dumps({"name": "box", "dimension": 3, "mu": 5.0, "fc": 50.0,
+                                "units": {"length": "m", "force": "kN"}, "blocks": [
+                                    {"id": "ground", "support": True, "vertices": cuboid(-2, -1, -0.5, 2, 1, 0)},
+                                    {"id": "B", "vertices": cuboid(-1, -0.5, 0, 1, 0.5, 4)}]}))
+    view = tmp_path / "view.html"
+    assert command("solve", [str(path), "--cohesion", "0.5", "--out", str(tmp_path / "o"), "--view", str(view),
+                             "--no-plot", "--quiet"]) == 0
+    text = view.read_text().replace("\\u002f", "/").replace("\\u00b2", "²")
+    assert "compressive strength fc: 50 kN/m² on every interface (1)" in text
+    assert "--cohesion 0.5 (kN/m²) on every interface" in text
