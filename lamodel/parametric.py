@@ -8,7 +8,7 @@ A spec (paths relative to the spec's folder)::
      "seed": 0,                                        # root of every variant's seeds
      "options": {"starts": 0, "pop_size": 10, "generations": 5, "time_limit": 60},
      "vary": {"mu": {"from": 0.3, "to": 0.9, "step": 0.1},          # or a list, or a number
-              "fc": [5000, 2000, 1000],                              # compressive strengths
+              "fc": [5000, 2000, 1000, "inf"],                       # compressive strengths
               "load_angle": [0, 5, 10],                              # degrees, counter-clockwise
               "dead_force": {"block": "b33", "fx": [0, -0.5], "fy": 0}},
      "random": {"count": 40, "mu": {"sd": 0.05, "per": "contact"}, "size": {"sd": 0.02}}}
@@ -18,7 +18,7 @@ dead_fy in that order), each repeated ``random.count`` times with independent ra
 
 * ``mu``: the friction coefficient of every contact.
 * ``fc``: the compressive strength of every joint (:mod:`lamodel.formulation.joints`; in
-  the structure's force per length squared).
+  the structure's force per length squared); ``"inf"``: joints that never crush.
 * ``load_angle``: every block's live force rotated by this angle (degrees,
   counter-clockwise; 0 is the structure's own live load), its magnitude kept.
 * ``dead_force``: a constant force (dead_fx, dead_fy) added at a block's centroid.
@@ -48,7 +48,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError, OutputError
-from .spec_values import check_keys, numbers, sd_of
+from .spec_values import check_keys, numbers, sd_of, strengths
 from .structure import Structure
 from .variants import (in_space, joint_places, with_block_sizes, with_dead_force, with_friction, with_load_angle,
                        with_strengths)
@@ -115,7 +115,7 @@ def study_from_dict(spec: dict, structure: Structure, where: str = "study spec")
             raise InputError(f"{where}: vary.mu has {min(mus):g}; expected friction coefficients >= 0")
         grid.append(("mu", mus))
     if "fc" in vary:
-        fcs = numbers(vary["fc"], f"{where}: vary.fc")
+        fcs = strengths(vary["fc"], f"{where}: vary.fc")
         if min(fcs) <= 0:
             raise InputError(f"{where}: vary.fc has {min(fcs):g}; expected compressive strengths > 0")
         ft = np.asarray(getattr(structure, "ft", None) if getattr(structure, "ft", None) is not None else [],
@@ -347,8 +347,9 @@ class StudyRun:
         return bool(self.table["certified"].all())
 
     def text(self) -> str:
-        """The table (without where and when each variant ran) and the files written."""
-        shown = [c for c in self.table.columns if c not in ("status", "ga_seed", "worker", "error")]
+        """The table (without where each variant ran; with its status, which says why a
+        variant has no alpha) and the files written."""
+        shown = [c for c in self.table.columns if c not in ("ga_seed", "worker", "error")]
         with pd.option_context("display.width", 200, "display.max_columns", 30, "display.max_rows", 60):
             table = self.table[shown].to_string(index=False, float_format=lambda v: f"{v:.6g}")
         return table + "\nwritten: " + ", ".join(self.written)

@@ -42,6 +42,24 @@ def numbers(value, where) -> list[float]:
     return [number(value, where)]
 
 
+#: How a spec writes an infinite strength (JSON has no infinity; Python's reader also takes Infinity).
+INFINITE = ("inf", "infinity")
+
+
+def strengths(value, where) -> list[float]:
+    """As :func:`numbers`, and a value (or a list's item) may be infinite: ``"inf"`` (the
+    joint that never crushes, the dry joint's f_c)."""
+    def one(v):
+        if (isinstance(v, str) and v.strip().lower() in INFINITE) or (isinstance(v, float) and v == math.inf):
+            return math.inf
+        if isinstance(v, str):
+            raise InputError(f"{where}: {json.dumps(v)} is not a number; expected a number or \"inf\"")
+        return number(v, where)
+    if isinstance(value, list) and value:
+        return [one(v) for v in value]
+    return [one(value)] if isinstance(value, (str, float)) else numbers(value, where)
+
+
 def check_count(n, where):
     if n > MAX_RANGE:  # refused before any list is made (memory)
         raise InputError(f"{where}: the range has {n:.6g} values; expected at most {MAX_RANGE}")

@@ -152,27 +152,72 @@ def _plot_distribution(fig, alpha, study, total):
     fig.suptitle(f"{study.name}: {alpha.size} of {total} variants certified")
 
 
+#: Why a variant has no certified alpha, by its status (study.csv's ``status``).
+NO_ALPHA = {"unstable": "unstable under dead load", "no_collapse": "no collapse under this live load",
+            "not_certified": "nothing certified in the time", "interrupted": "stopped before a certificate",
+            "failed": "failed", "not run": "not run (study stopped)"}
+#: A parameter's axis is logarithmic when its positive values span more than this factor.
+LOG_SPAN = 10.0
+
+
+def parameter_axis(values, column: str):
+    """Where a study's parameter values go on the x axis: (positions, log, where infinity
+    is drawn or None). The compressive strength fc goes on a logarithmic axis when its
+    finite values span more than a decade (:data:`LOG_SPAN`); an infinite fc (no crushing)
+    is drawn apart, beyond the largest finite value."""
+    v = np.asarray(values, dtype=float)
+    finite = v[np.isfinite(v)]
+    log = bool(column == "fc" and finite.size and finite.min() > 0 and finite.max() > LOG_SPAN * finite.min())
+    at_infinity = None
+    if np.isinf(v).any():
+        if not finite.size:
+            at_infinity = 1.0
+        elif log:
+            at_infinity = finite.max() * 10 ** max(0.5, 0.15 * np.log10(finite.max() / finite.min()))
+        else:
+            at_infinity = finite.max() + 0.2 * ((finite.max() - finite.min()) or abs(finite.max()) or 1.0)
+    return np.where(np.isinf(v), at_infinity if at_infinity is not None else np.nan, v), log, at_infinity
+
+
 def _plot_against(ax, df, varied, study):
     x, others = varied[0], varied[1:]
+    positions, log, at_infinity = parameter_axis(df[x], x)
+    df = df.assign(_x=positions, _far=np.isinf(df[x].to_numpy(dtype=float)))
     groups = df.groupby(others, sort=False) if others else [((), df)]
     for k, (key, g) in enumerate(groups):
         key = key if isinstance(key, tuple) else (key,)
-        label = ", ".join(f"{c} = {v:g}" for c, v in zip(others, key))
+        label = ", ".join(f"{c} = {_value(v)}" for c, v in zip(others, key))
         color = f"C{k}"
         ok = g[g["certified"]]
+        near = g[~g["_far"]]   # the line is not drawn on to the point at infinity
         if study.random:
-            ax.plot(ok[x], ok["alpha"], ".", color=color, alpha=0.35, markersize=4)
-            med = ok.groupby(x)["alpha"].median()
+            ax.plot(ok["_x"], ok["alpha"], ".", color=color, alpha=0.35, markersize=4)
+            med = ok.groupby("_x")["alpha"].median()
             ax.plot(med.index, med.to_numpy(), "o-", color=color, label=(label + ": " if label else "") + "median")
         else:  # the line broken where a variant has no certified alpha: nothing is drawn there
-            ax.plot(g[x], g["alpha"].where(g["certified"].astype(bool)), "o-", color=color,
+            ax.plot(near["_x"], near["alpha"].where(near["certified"].astype(bool)), "o-", color=color,
                     label=label or r"$\alpha_c$ (certified)")
+            far = g[g["_far"] & g["certified"].astype(bool)]
+            if len(far):
+                ax.plot(far["_x"], far["alpha"], "D", color=color, markersize=8, markerfacecolor="none",
+                        label=f"{x} = ∞" + (f" ({label})" if label else "") + ": "
+                        + ", ".join(f"α = {a:.4g}" for a in far["alpha"]))
         if not others and not study.random:
-            ax.plot(g[x], g["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
-        for i, v in enumerate(g.loc[~g["certified"].astype(bool), x]):
-            ax.axvline(v, color=color, linestyle=":", linewidth=0.8,
-                       label="no certified $\\alpha$" if i == 0 and k == 0 else None)
-    ax.set_xlabel({"mu": r"friction coefficient $\mu$", "fc": r"compressive strength $f_c$",
+            ax.plot(near["_x"], near["alpha_associative"], "s--", color="#7f7f7f", label="associative bound")
+            ax.plot(g.loc[g["_far"], "_x"], g.loc[g["_far"], "alpha_associative"], "s", color="#7f7f7f")
+    _no_alpha(ax, df, x, others)
+    if log:
+        ax.set_xscale("log")
+    if at_infinity is not None:
+        _infinity_tick(ax, df, at_infinity)
+    unit = ""
+    if x == "fc":
+        from .materials import stress_unit
+        unit = stress_unit(getattr(study.structure, "units", None))
+    scale = ", log scale" if log else ""
+    ax.set_xlabel({"mu": r"friction coefficient $\mu$",
+                   "fc": r"compressive strength $f_c$" + (f" [{unit}]" if unit else "") + scale
+                   + ("; ∞: no crushing" if at_infinity is not None else ""),
                    "load_angle": "live-load angle (degrees)",
                    "dead_fx": f"dead force $f_x$ on {study.dead_block}",
                    "dead_fy": f"dead force $f_y$ on {study.dead_block}"}.get(x, x))
@@ -180,3 +225,55 @@ def _plot_against(ax, df, varied, study):
     ax.set_title(f"{study.name}: collapse multiplier against {x.replace('_', ' ')}")
     ax.grid(True, linewidth=0.3)
     ax.legend(loc="best", fontsize="small")
+
+
+def _value(v) -> str:
+    return "∞" if np.isinf(v) else f"{v:g}"
+
+
+#: Variants named at most in one legend entry of a missing alpha (more: counted).
+NAMED_VARIANTS = 4
+
+
+def _no_alpha(ax, df, x, others):
+    """A dotted line at each value where a variant has no certified alpha, one legend entry
+    per status saying why (:data:`NO_ALPHA`) and for which variants, the statuses written
+    along the line."""
+    none = df[~df["certified"].astype(bool)]
+    status = none["status"].where(none["status"].notna() & (none["status"] != ""), "unknown").astype(str)
+    styles = (":", "-.", "--", (0, (1, 3)), (0, (5, 2, 1, 2)), (0, (3, 3)))
+    for k, (word, g) in enumerate(none.groupby(status, sort=False)):
+        named = list(dict.fromkeys(
+            f"{x} = {_value(r[x])}" + (" (" + ", ".join(f"{c} = {_value(r[c])}" for c in others) + ")" if others else "")
+            for _, r in g.iterrows()))
+        shown = ", ".join(named[:NAMED_VARIANTS]) + (f" and {len(named) - NAMED_VARIANTS} more"
+                                                      if len(named) > NAMED_VARIANTS else "")
+        label = f"no α: {NO_ALPHA.get(word, word.replace('_', ' '))}: {shown}"
+        for i, pos in enumerate(dict.fromkeys(g["_x"])):
+            ax.axvline(pos, color="#c0392b" if k == 0 else "#7f7f7f", linestyle=styles[k % len(styles)],
+                       linewidth=1.0, label=label if i == 0 else None)
+    for pos, g in none.groupby("_x", sort=False):   # every status at that value, in one text
+        words = ", ".join(dict.fromkeys(status[g.index].str.replace("_", " ")))
+        ax.annotate(words, xy=(pos, 0.98), xycoords=("data", "axes fraction"), rotation=90, ha="right", va="top",
+                    fontsize="x-small", color="#555555")
+
+
+def _infinity_tick(ax, df, at_infinity):
+    """The point at infinity: a tick labelled ∞ and a break (two short slashes) on the axis
+    between it and the largest finite value."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter
+    finite = df.loc[~df["_far"], "_x"].to_numpy(dtype=float)
+    lo, hi = ax.get_xlim()
+    ticks = [t for t in ax.get_xticks() if lo <= t <= (finite.max() if finite.size else lo)]
+    shown = ax.xaxis.get_major_formatter()
+    minor = [t for t in ax.xaxis.get_minorticklocs() if lo <= t <= (finite.max() if finite.size else lo)]
+    ax.xaxis.set_major_locator(FixedLocator(ticks + [at_infinity]))
+    ax.xaxis.set_minor_locator(FixedLocator(minor))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda t, i: "∞" if np.isclose(t, at_infinity) else shown(t, i)))
+    if finite.size:
+        gap = np.sqrt(finite.max() * at_infinity) if ax.get_xscale() == "log" else (finite.max() + at_infinity) / 2
+        for y in (0.0, 1.0):   # the axis broken there: two slashes on each spine
+            for shift in (-0.006, 0.006):
+                ax.plot([gap], [y], transform=ax.get_xaxis_transform(), marker=[(-1 + shift * 100, -2),
+                        (1 + shift * 100, 2)], markersize=9, color="#444444", clip_on=False, linestyle="none")
+        ax.set_xlim(lo, hi)

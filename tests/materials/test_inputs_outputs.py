@@ -168,6 +168,45 @@ def test_study_varies_the_compressive_strength():
         study_from_dict({"name": "x", "vary": {"fc": [10, -1]}}, s, where="spec")
 
 
+def test_a_study_over_fc_spanning_decades_plots_on_a_log_axis_with_infinity_apart_and_says_why_alpha_is_missing(
+        block_file, tmp_path, monkeypatch):
+    """The block (N = -6 kN on a 2 m joint) crushes under its own weight at fc = 1 kN/m²
+    (unstable); fc from 1 to 1000 kN/m² and "inf" (no crushing): a log axis, ∞ a tick of its
+    own, the missing alpha's status in study.csv, the printed table and the legend."""
+    from lamodel.output import figures
+    from lamodel.parametric import run_study_into, study_from_dict
+    drawn = []
+
+    def keep(path, draw, size=(6.4, 4.2)):  # the figure study.png is drawn from, kept open
+        fig = figures._pyplot().figure(figsize=size)
+        draw(fig)
+        drawn.append(fig)
+        return str(path)
+    monkeypatch.setattr(figures, "save_figure", keep)
+    s = structure_from_json(json.loads(block_file.read_text()))
+    study = study_from_dict({"name": "blk_fc", "options": {"starts": 0}, "vary": {"fc": [1, 10, 1000, "inf"]}}, s)
+    run = run_study_into(study, tmp_path / "out", workers=1)
+    table = pd.read_csv(tmp_path / "out" / "study.csv")
+    assert np.isinf(table["fc"].iloc[-1]) and table["alpha"].iloc[-1] == pytest.approx(2 / 3)
+    missing = table[table["alpha"].isna()]
+    assert list(missing["fc"]) == [1] and list(missing["status"]) == ["unstable"]
+    assert "unstable" in run.text().splitlines()[1]
+    ax = drawn[0].axes[0]
+    assert ax.get_xscale() == "log"
+    assert "∞" in [t.get_text() for t in ax.get_xticklabels()]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "no α: unstable under dead load: fc = 1" in legend
+    assert any(t.startswith("fc = ∞: α = 0.6667") for t in legend)
+    assert "kN/m²" in ax.get_xlabel()
+    # within a decade, a linear axis
+    study = study_from_dict({"name": "blk_fc", "vary": {"fc": [4, 8]}}, s)
+    figures.plot_study(pd.DataFrame({"fc": [4.0, 8.0], "alpha": [0.5, 0.6], "certified": [True, True],
+                                     "alpha_associative": [0.5, 0.6], "status": ["certified"] * 2}), study, "x.png")
+    assert drawn[1].axes[0].get_xscale() == "linear"
+    with pytest.raises(InputError, match='vary.fc: "soft" is not a number; expected a number or "inf"'):
+        study_from_dict({"name": "x", "vary": {"fc": [10, "soft"]}}, s, where="spec")
+
+
 def test_a_joint_takes_the_weaker_of_its_bodies_with_the_files_values_as_theirs():
     """A body without its own strength has the file's: a stronger neighbour does not lend
     it its strength (b1's file values 10, 0.05, 0.1 against b2's own 50, 0.4, 1)."""
