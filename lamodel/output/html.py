@@ -73,9 +73,11 @@ def report_html(structure, results, words, picture_svg, command, source, study=N
               table_html(moving[cols]) if len(moving) else
               "<p>none</p>" if known else "<p>unknown: no collapse state was certified</p>"]
     units = s.units or {}
+    lo, hi = (f"{v:.4g}" for v in (s.mu.min(), s.mu.max()))
+    mu = lo if lo == hi else f"{lo} to {hi}"
     inputs = pd.DataFrame([
         ("input file", source), ("movable blocks", s.n_blocks), ("supports", len(s.supports)),
-        ("contacts", s.n_contacts), ("friction mu", f"{s.mu.min():.4g} to {s.mu.max():.4g}"),
+        ("contacts", s.n_contacts), ("friction mu", mu),
         ("length unit", units.get("length", "- (dimensionless)")),
         ("force unit", units.get("force", "- (dimensionless)")),
         ("total dead load (fx, fy)", f"({s.dead[:, 0].sum():.6g}, {s.dead[:, 1].sum():.6g})"),

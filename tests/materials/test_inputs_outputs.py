@@ -262,6 +262,8 @@ def test_the_report_states_the_joints_strengths_in_the_structures_units(block_fi
                              "--workers", "1", "--quiet"]) == 0
     inputs = report.read_text().split("<h2>Inputs and units</h2>")[1]
     assert "<td>stress unit</td><td>kN/m²</td>" in inputs
+    mu = spec(fc=20.0)["mu"]
+    assert f"<td>friction mu</td><td>{mu:.4g}</td>" in inputs    # one friction: one value, not "x to x"
     assert ("<td>compressive strength fc</td><td>12.5 kN/m² on 2 joints: a|b (c1), ground|a (c2); 20 kN/m² on 1 "
             "joint: ground|b (c3)</td>") in inputs
     assert "<td>cohesion c0</td><td>0.1 kN/m² on every joint (3)</td>" in inputs
