@@ -263,6 +263,8 @@ def check_overlaps(polys, pairs, lo, hi, tol):
 #: The most interior points a side of ``grid:n`` (n^2 points a joint): past it the cone
 #: programs' size, not the stress block's accuracy, grows (grid:100000 asked 149 GiB).
 GRID_MAX = 64
+#: What ``contact_points`` may be, in the messages that refuse another value.
+CONTACT_POINTS = f'"vertices" or "grid:n" with a whole n from 1 to {GRID_MAX}'
 
 
 def parse_contact_points(mode) -> int:
@@ -276,8 +278,7 @@ def parse_contact_points(mode) -> int:
             n = 0
         if 1 <= n <= GRID_MAX:
             return n
-    raise InputError(f"'contact_points' is {mode!r}; expected \"vertices\" or \"grid:n\" with a whole n from 1 to "
-                     f"{GRID_MAX}")
+    raise InputError(f"'contact_points' is {mode!r}; expected {CONTACT_POINTS}")
 
 
 def interface_points(f: Interface, grid: int = 0) -> np.ndarray:

@@ -372,3 +372,30 @@ def winding_number(triangles: np.ndarray, points: np.ndarray) -> np.ndarray:
     den = la * lb * lc + np.einsum("pti,pti->pt", a, b) * lc + np.einsum("pti,pti->pt", b, c) * la \
         + np.einsum("pti,pti->pt", c, a) * lb
     return np.arctan2(num, den).sum(axis=1) / (2 * np.pi)
+
+
+def surface_distance(triangles: np.ndarray, point) -> float:
+    """Least distance from ``point`` to the triangles (t, 3, 3) of a surface (Ericson,
+    *Real-Time Collision Detection* 5.1.5: the nearest point of each triangle)."""
+    p = np.asarray(point, dtype=float)
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    ab, ac, ap = b - a, c - a, p - a
+    dot = lambda u, v: np.einsum("ij,ij->i", u, v)  # noqa: E731
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    bp, cp = p - b, p - c
+    d3, d4, d5, d6 = dot(ab, bp), dot(ac, bp), dot(ab, cp), dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denom = va + vb + vc
+        v, w = vb / denom, vc / denom
+        q = a + ab * v[:, None] + ac * w[:, None]                       # inside the face
+        t_ab, t_ac = d1 / (d1 - d3), d2 / (d2 - d6)
+        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+    edges = [(vc <= 0) & (d1 >= 0) & (d3 <= 0), a + ab * t_ab[:, None],  # on edge ab
+             (vb <= 0) & (d2 >= 0) & (d6 <= 0), a + ac * t_ac[:, None],  # on edge ac
+             (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), b + (c - b) * t_bc[:, None]]  # on edge bc
+    for mask, at in reversed(list(zip(edges[::2], edges[1::2]))):
+        q = np.where(mask[:, None], at, q)
+    for mask, at in (((d6 >= 0) & (d5 <= d6), c), ((d3 >= 0) & (d4 <= d3), b), ((d1 <= 0) & (d2 <= 0), a)):
+        q = np.where(mask[:, None], at, q)                               # a corner, last: it wins
+    return float(np.nanmin(np.linalg.norm(q - p, axis=1)))

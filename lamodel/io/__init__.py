@@ -22,6 +22,8 @@ def read(path, **options):
     (lamodel or COMPAS) or a mesh (.obj, .ply, .stl, .gltf, .glb); InputError, one line,
     otherwise. ``options`` go to the 3D readers (:mod:`lamodel.io.assemblies`: mu,
     unit_weight, live_load, supports, supports_below, units, tolerance, contact_points)."""
+    from .options3d import check_input_options
+    check_input_options(options)   # a value the caller gave is refused as the caller's, not the file's
     p = Path(path)
     ext = p.suffix.lower()
     if p.is_dir():

@@ -35,6 +35,7 @@ from ..structure3d import Structure3D
 from .files import read_text
 from .json3d import structure3d_from_spec
 from .kinds import MESH_SUFFIXES, is_3d_spec, is_compas  # noqa: F401 (MESH_SUFFIXES: read here by others)
+from .options3d import flag
 
 DEFAULT_MU = 0.6
 DEFAULT_UNIT_WEIGHT = 1.0
@@ -52,7 +53,7 @@ def _mechanics(spec, where, mu=None, unit_weight=None, live_load=None, supports=
     if supports is not None:
         unknown = sorted(set(map(str, supports)) - set(ids))
         if unknown:
-            raise InputError(f"{where}: support '{unknown[0]}' is not a block of the file; expected ids among "
+            raise InputError(f"--supports: '{unknown[0]}' is not a block of {where}; expected ids among "
                              f"{', '.join(ids[:5])}{', ...' if len(ids) > 5 else ''}")
         for b in spec["blocks"]:
             b["support"] = b["id"] in set(map(str, supports))
@@ -212,7 +213,7 @@ def read_3d_spec(data, path, **options):
     spec_keys = ("tolerance", "contact_points")
     extra = sorted(set(options) - set(spec_keys))
     if extra:
-        raise InputError(f"{path}: option '{extra[0]}' applies to COMPAS assemblies and meshes only; the JSON "
-                         "file gives its own mechanical data")
+        raise InputError(f"{flag(extra[0])}: applies to COMPAS assemblies and meshes only; expected a 3D JSON "
+                         f"file without it ({path} gives its own mechanical data)")
     data.setdefault("name", Path(path).stem)
     return structure3d_from_spec(data, str(path), **options)

@@ -19,7 +19,8 @@ The 2D format (:mod:`lamodel.io.jsonspec`) with 3-component vertices, z up::
 Faces are vertex loops ordered counter-clockwise seen from outside. The dead load of a
 block is ``unit_weight * volume`` along -z at its centroid; its live load is
 ``live_load * unit_weight * volume``. Point loads add their force and their moment about the
-centroid; when the file gives live point loads but no ``live_load``, alpha multiplies only
+centroid (each at a point of its block: inside, or on its surface within the tolerance and
+``LOAD_POINT_SLACK`` of the block's size); when the file gives live point loads but no ``live_load``, alpha multiplies only
 them (and ``meta["live_load"]`` is None: no live load per unit weight was applied). A contact takes the smaller ``mu`` of its two bodies.
 
 The joints' strengths (the point-contact model of :mod:`lamodel.formulation.space`):
@@ -43,8 +44,8 @@ from scipy.sparse.csgraph import connected_components
 from ..errors import InputError
 from ..geometry.interfaces3d import find_interfaces, interface_points, parse_contact_points
 from ..geometry.hulls import convex_polyhedra
-from ..geometry.polyhedra import polyhedron
-from ..search.tuning import SUPPORT_LEVEL
+from ..geometry.polyhedra import polyhedron, surface_distance, winding_number
+from ..search.tuning import LOAD_POINT_SLACK, SUPPORT_LEVEL
 from ..structure3d import Structure3D, tangent_frame
 from .joints3d import JointProbe, warn_missed_joints
 from ..geometry.tributary import areas_in_frame
@@ -194,7 +195,8 @@ def structure3d_from_spec(spec: dict, where: str | None = None, name: str | None
         for key, value in body[5].items():
             rows[key][row[pos]] = value
     centroid = np.array([polys[j].centroid for j in moving])
-    _point_loads(spec, where, {ids[j]: r for r, j in enumerate(moving)}, centroid, rows)
+    _point_loads(spec, where, {ids[j]: r for r, j in enumerate(moving)}, centroid, rows,
+                 [polys[j] for j in moving], tol)
 
     pts = [interface_points(f, grid) for f in interfaces]
     count = np.array([len(p) for p in pts], dtype=int)
@@ -233,8 +235,10 @@ def _is_points(v) -> bool:
     return a.ndim == 2 and a.shape[1] == 3 and not any(isinstance(c, (bool, np.bool_)) for p in v for c in p)
 
 
-def _point_loads(spec, where, row, centroid, rows):
-    """Point loads: the force and its moment about the block's centroid into dead or live."""
+def _point_loads(spec, where, row, centroid, rows, polys, tol):
+    """Point loads: the force and its moment about the block's centroid into dead or live;
+    each at a point of its block (``polys``, a row's polyhedron), within the geometric
+    tolerance ``tol`` and ``LOAD_POINT_SLACK`` of the block's size."""
     loads = spec.get("loads", [])
     if not isinstance(loads, list):
         raise InputError(f"{where}: 'loads' is {json.dumps(loads)[:40]}; expected a list of point loads")
@@ -253,8 +257,21 @@ def _point_loads(spec, where, row, centroid, rows):
             raise InputError(f"{at}: 'kind' is {json.dumps(kind)}; expected \"live\" or \"dead\"")
         point, force = _vector3(load.get("at"), at, "'at'"), _vector3(load.get("force"), at, "'force'")
         r = row[block]
+        _check_on_block(point, polys[r], tol, at)
         rows[kind][r] += force
         rows[kind + "_m"][r] += np.cross(point - centroid[r], force)
+
+
+def _check_on_block(point, poly, tol, at):
+    """InputError unless ``point`` is inside the polyhedron or within the slack of its surface."""
+    size = float(np.linalg.norm(poly.hi - poly.lo))
+    triangles = poly.triangles()
+    if winding_number(triangles, point[None, :])[0] > 0.5:
+        return
+    gap = surface_distance(triangles, point)
+    if gap > tol + LOAD_POINT_SLACK * size:
+        raise InputError(f"{at}: point {point.tolist()} is not on block '{poly.id}' ({gap:.3g} from its surface, "
+                         f"{gap / size:.3g} times its size); expected a point inside or on the boundary of the block")
 
 
 def read_json3d(path_or_spec, name=None, **options) -> Structure3D:

@@ -147,8 +147,7 @@ def analyse(source, options=None, out=None, *, method: str = "lamodel", seed_ga=
         structure = _read(source, warn, inputs)
         asked = {k: v for k, v in (strengths or {}).items() if v is not None}
         if asked:
-            from ..variants import with_strengths
-            structure = with_strengths(structure, **asked)
+            structure = _with_strengths(structure, asked, source)
         if prove is not None and getattr(structure, "has_materials", False):
             said = ("--prove: the proven lower bound knows dry joints only; alpha_lower is not computed for "
                     "joints with strengths")
@@ -182,6 +181,31 @@ def _read(source, warn, inputs=None):
                 warn(str(w.message))
             else:
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+
+
+def _with_strengths(structure, asked, source):
+    """:func:`lamodel.variants.with_strengths` for the what-ifs ``asked`` (--fc, --ft,
+    --cohesion): an ft above an fc is refused naming the option that set it, and the file
+    when the other one is the file's."""
+    import numpy as np
+
+    from ..validation import first
+    from ..variants import in_space, joint_places, with_strengths
+    fc, ft = asked.get("fc"), asked.get("ft")
+    if fc is not None and ft is not None and ft > fc:
+        raise InputError(f"--ft is {ft:g}, above --fc {fc:g}; expected a tensile strength at most the compressive one")
+    if (fc is None) != (ft is None):
+        n = joint_places(structure)
+        own = np.asarray(structure.ft if ft is None else structure.fc, dtype=float)[:n]
+        i = first(own > fc) if ft is None else first(ft > own)
+        if i is not None:
+            where = str(source) if isinstance(source, (str, os.PathLike)) else f"structure '{structure.name}'"
+            owner = f"interface '{structure.interfaces[structure.point_interface[i]]}'" if in_space(structure) \
+                else f"contact '{structure.contacts[i]}'"
+            said = f"--fc is {fc:g}, below the ft {own[i]:g}" if ft is None else f"--ft is {ft:g}, above the fc {own[i]:g}"
+            raise InputError(f"{said} that {where} gives {owner}; expected a tensile strength at most the compressive "
+                             f"one (give {'--ft' if ft is None else '--fc'} too)")
+    return with_strengths(structure, **asked)
 
 
 def _analyse(structure, source, options, out, method, seed_ga, picture, report, animate, moving, echo, command,

@@ -132,7 +132,7 @@ def test_cli_cohesion_what_if_slides(block_file, tmp_path):
 
 
 @pytest.mark.parametrize("argv, words", [(["--fc", "-1"], "--fc"), (["--cohesion", "x"], "--cohesion"),
-                                         (["--fc", "1", "--ft", "2"], "ft of contact")])
+                                         (["--fc", "1", "--ft", "2"], "--ft is 2, above --fc 1")])
 def test_cli_bad_strengths_one_line(block_file, tmp_path, capsys, argv, words):
     assert command("solve", [str(block_file), *argv, "--out", str(tmp_path / "o"), "--no-plot"]) == 2
     err = capsys.readouterr().err.strip()

@@ -169,7 +169,7 @@ def test_an_open_mesh_is_refused_by_solve(tmp_path):
     (("--rolling", "1,0"), "--rolling"),
     (("--report", "r.html"), "--report"),
     (("--starts", "2"), "--starts"),
-    (("--mu", "0.3"), "option 'mu'"),                      # the 3D JSON gives its own mu
+    (("--mu", "0.3"), "--mu: applies to COMPAS assemblies and meshes only"),   # the 3D JSON gives its own mu
 ])
 def test_options_a_3d_solve_cannot_honour_are_refused(tmp_path, capsys, args, words):
     from lamodel.cli import main
