@@ -97,6 +97,19 @@ def test_tension_needs_cohesion(c0):
     assert r.state is not None and r.alpha == pytest.approx(0.5 + min(0.1, c0 / mu) * area, abs=1e-7)
 
 
+@pytest.mark.parametrize("mu", [1e8, 1e9])
+@pytest.mark.parametrize("fc", [np.inf, 10.0])
+def test_a_huge_mu_keeps_the_associative_bound_above_alpha(mu, fc):
+    """Three unit cubes stacked, mu 1e8 or 1e9 (no sliding): the stack turns about a base
+    edge at alpha = 1/3 and the associative bound, max alpha over S, is not below it (the
+    cones' rows scaled to the solver's tolerances: at mu 1e8 the bound was 7e-6 under alpha,
+    at 1e9 the stack was found unstable)."""
+    s = stack_of_boxes(3, 1.0, 1.0, 1.0, mu=mu)
+    r = solve(s if np.isinf(fc) else strong(s, fc=fc))
+    assert r.state is not None and r.alpha == pytest.approx(1 / 3, abs=1e-7)
+    assert r.associative >= r.alpha - 1e-8
+
+
 def test_units_scale_the_stresses():
     """Lengths times 3, forces times 7: stresses times 7 / 9, the same alpha."""
     s = box_on_ground(A, B, H, mu=5.0)
