@@ -107,12 +107,16 @@ class Structure3D(Assembly):
 
     def caps(self):
         """Per point ``(N_c, N_t, k)``: the crushing force ``-f_c A_i`` (-inf: none), the
-        tensile force ``f_t A_i`` and the cohesion force ``c0 A_i``; the real domain is
-        ``N_c <= N <= N_t``, ``||T|| <= k - mu N``."""
+        tensile force and the cohesion force ``k = c0 A_i``; the real domain is
+        ``N_c <= N <= N_t``, ``||T|| <= k - mu N``. The cone ends at its apex ``N = k / mu``,
+        so the tensile force is ``min(f_t A_i, k / mu)``: the tension a point can carry
+        (none without cohesion), and where an associative point opens."""
         A = self.areas()
         finite = np.isfinite(self.fc)
         crush = np.where(finite, -np.where(finite, self.fc, 0.0) * A, -np.inf)
-        return crush, self.ft * A, self.cohesion * A
+        k = self.cohesion * A
+        apex = np.divide(k, self.mu, out=np.full(self.n_points, np.inf), where=self.mu > 0)
+        return crush, np.minimum(self.ft * A, apex), k
 
     def interface_blocks(self):
         """Indices of blocks a and b per interface, -1 for a support."""

@@ -10,9 +10,10 @@ cone with T along the slip, and the seed's eq. 5, ``alpha = alpha_K = -dead . u 
 sum(-mu N |slip|)``.
 
 With the joints' strengths (columns ``fc``, ``ft``, ``cohesion``, ``area``) each point's
-caps are rebuilt from them: ``-fc area <= N <= ft area``, ``hypot(T1, T2) <= cohesion area
-- mu N``; it opens only at ``N = ft area``, closes only at ``N = -fc area``, and eq. 5
-gains ``ft area qn`` (opening), ``-fc area |qn|`` (closing) and ``(cohesion area - mu N)
+caps are rebuilt from them: ``-fc area <= N <= N_t``, ``hypot(T1, T2) <= cohesion area
+- mu N``, where ``N_t = min(ft area, cohesion area / mu)`` (the cone's apex bounds the
+tension too); it opens only at ``N = N_t``, closes only at ``N = -fc area``, and eq. 5
+gains ``N_t qn`` (opening), ``-fc area |qn|`` (closing) and ``(cohesion area - mu N)
 |slip|``.
 
 A folder without a certified state must say so: alpha, every force and every motion empty
@@ -84,6 +85,8 @@ def check_folder(folder):
         area = float(c.get("area") or 0.0)   # dry: no caps, no cohesion
         low = -float(c["fc"]) * area if c.get("fc") not in (None, "", "inf") else -math.inf
         high, k = float(c.get("ft") or 0.0) * area, float(c.get("cohesion") or 0.0) * area
+        if mu > 0:   # the cone ends at its apex N = k / mu: no more tension than that
+            high = min(high, k / mu)
         f = [N * n[i] + T1 * t1[i] + T2 * t2[i] for i in range(3)]
         for body, sign in ((c["block_a"], 1.0), (c["block_b"], -1.0)):
             if body in index:

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FLOOR
+from ..search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FAR, CRUSHING_FLOOR
 from ..structure import YIELD_ROWS, Structure
 from .joints import facets, fractions
 
@@ -98,10 +98,20 @@ def flow_matrix(s: Structure) -> sp.csr_matrix:
     return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
 
 
+def crushing_strengths(s: Structure) -> np.ndarray:
+    """(nc,) each joint's f_c as its rows take it: infinite (eq. 4's hinge rows, shifted by
+    the tension) where its crushing force 2 d b f_c passes CRUSHING_FAR times the loads
+    (the dead and live forces' sum): the stress block is the cone there to round-off, and
+    its polygon's facets, of the size of that force, would pass what an LP can hold."""
+    loads = np.abs(s.dead).sum() + np.abs(s.live).sum()
+    far = 2 * s.d * s.thickness * s.fc > CRUSHING_FAR * loads
+    return np.where(far, np.inf, s.fc)
+
+
 def facets_per_half(s: Structure) -> int:
     """N-M facets a half of every joint's domain: one (the hinge rows of eq. 4, shifted by
     the tension) unless some joint crushes, then those of :func:`.joints.fractions`."""
-    if not np.isfinite(s.fc).any():
+    if not np.isfinite(crushing_strengths(s)).any():
         return 1
     return len(fractions(CRUSHING_FACETS, CRUSHING_FLOOR, CRUSHING_FAN_RATIO)) - 1
 
@@ -112,9 +122,10 @@ def joint_facets(s: Structure):
     joint of infinite f_c repeats its one facet (its rows are copies: the layout stays a
     block of nc rows a kind)."""
     m = facets_per_half(s)
+    fc = crushing_strengths(s)
     a, beta = np.empty((m, s.n_contacts)), np.empty((m, s.n_contacts))
     for k in range(s.n_contacts):
-        ak, bk = facets(s.d[k], s.thickness[k], s.fc[k], s.ft[k], CRUSHING_FACETS, CRUSHING_FLOOR,
+        ak, bk = facets(s.d[k], s.thickness[k], fc[k], s.ft[k], CRUSHING_FACETS, CRUSHING_FLOOR,
                         CRUSHING_FAN_RATIO)
         a[:, k], beta[:, k] = np.resize(ak, m), np.resize(bk, m)
     return np.vstack([a, a]), np.vstack([beta, beta])
@@ -126,7 +137,7 @@ def row_origins(s: Structure) -> np.ndarray:
     copies are the first facet of their half again. The LPs keep one row of each."""
     nc, m = s.n_contacts, facets_per_half(s)
     origin = np.arange((2 + 2 * m) * nc)
-    rigid = np.flatnonzero(~np.isfinite(s.fc))
+    rigid = np.flatnonzero(~np.isfinite(crushing_strengths(s)))
     for first in (2, 2 + m):  # the lower half's facets, then the upper's
         for j in range(1, m):
             origin[(first + j) * nc + rigid] = first * nc + rigid

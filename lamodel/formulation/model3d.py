@@ -12,7 +12,7 @@ each >= 0 on S, so a point with zero gap is a collapse state: opening only where
 slip only on the cone along T, sigma the slip's length (the seed's second theorem).
 
 With the joints' strengths (:meth:`lamodel.structure3d.Structure3D.caps`: per point
-``N_c = -f_c A <= N <= N_t = f_t A`` and ``||T|| <= k - mu N``, k = c0 A) the cone is
+``N_c = -f_c A <= N <= N_t = min(f_t A, k / mu)`` and ``||T|| <= k - mu N``, k = c0 A) the cone is
 ``T1^2 + T2^2 <= (k - mu N)^2`` with ``k - mu N >= 0``, the opening ``q_n = open - close``
 (``close``, the point crushing, only where it has a cap), and
 ``alpha_K = -u^T f0 + sum (k - mu N) sigma + N_t open - N_c close``: the fictitious

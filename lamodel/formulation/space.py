@@ -16,7 +16,7 @@ mechanics is written). Conventions are those of :mod:`lamodel.structure3d`:
   ``||t_p|| <= c_p``, no dilatancy; its flow rule opens only where ``N = 0`` and slips along
   the tangential force; ``alpha_K = -u^T f0 + sum_p c_p ||slip_p||`` (eq. 5).
 * with the joints' strengths (:meth:`lamodel.structure3d.Structure3D.caps`: per point the
-  crushing force ``N_c = -f_c A``, the tensile force ``N_t = f_t A``, the cohesion force
+  crushing force ``N_c = -f_c A``, the tensile force ``N_t = min(f_t A, k / mu)``, the cohesion force
   ``k = c0 A``) the real domain is ``N_c <= N <= N_t``, ``||T|| <= k - mu N``; the
   fictitious system's cohesion is ``c_p = max(k - mu N_p, 0)`` (``c0 A + mu |N|`` at a
   compressed point: the real cone's radius at the real N), its caps the same and

@@ -56,6 +56,18 @@ _STATUS = {"Solved": "optimal", "AlmostSolved": "optimal", "PrimalInfeasible": "
            "AlmostDualInfeasible": "unbounded"}
 
 
+def _cone_scaled(rows, b):
+    """Each point's three cone rows (and their right-hand side) divided by their largest
+    coefficient where it passes 1: the same cone (w s is in it with s, w > 0), but a huge
+    mu's rows ``(mu N, T1, T2)`` become ``(N, T1 / mu, T2 / mu)``, so the solver's
+    tolerances, relative to the data's size, stay those of an ordinary structure."""
+    if rows.shape[0] == 0:
+        return rows, b
+    top = abs(rows).max(axis=1).toarray().ravel().reshape(-1, 3).max(axis=1)
+    w = np.repeat(1.0 / np.maximum(top, 1.0), 3)
+    return sp.diags(w) @ rows, np.asarray(b, float) * w
+
+
 class ConePrograms:
     """The SOCPs of one (non-dimensional) 3D structure; see the module doc."""
 
@@ -80,6 +92,7 @@ class ConePrograms:
     def _solve(self, cost, rows_zero, b_zero, rows_nonneg, soc_rows, soc_b, n_soc, time_limit=None, b_nonneg=None):
         """min cost^T x subject to rows_zero x = b_zero, rows_nonneg x <= b_nonneg (0 if
         None; s = b - Gx >= 0) and SOC blocks of 3 rows (s = soc_b - soc_rows x in the cone)."""
+        soc_rows, soc_b = _cone_scaled(soc_rows, soc_b)
         G = sp.vstack([rows_zero, rows_nonneg, soc_rows]).tocsc()
         b = np.concatenate([b_zero, np.zeros(rows_nonneg.shape[0]) if b_nonneg is None else b_nonneg, soc_b])
         cones = [clarabel.ZeroConeT(rows_zero.shape[0]), clarabel.NonnegativeConeT(rows_nonneg.shape[0])]

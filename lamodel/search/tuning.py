@@ -392,6 +392,11 @@ CRUSHING_FACETS = 16
 CRUSHING_FLOOR = 1e-7
 CRUSHING_FAN_RATIO = 16.0
 
+#: A planar joint whose crushing force 2 d b f_c passes this many times the loads takes eq. 4's
+#: rows (f_c infinite): the stress block's moment is within |N| / (2 d b f_c) of the cone's, below
+#: round-off, where its polygon's facets of that size pass HiGHS's limits (f_c 1e18: 'Empty').
+CRUSHING_FAR = 1e12
+
 # ------------------------------------------------------------- joints' strengths in space
 #: A crushing cap beyond this many times the loads' size (dead and live forces' sum) is
 #: never reached: left out of the programs (an infinite f_c); the state is checked against every cap.

@@ -99,6 +99,14 @@ def test_block_with_a_huge_strength_tends_to_b_over_h():
     assert B / H * (1 - loss) - 1e-9 <= solved(block(fc=1e9)) <= B / H + 1e-9
 
 
+@pytest.mark.parametrize("fc", [1e18, 1e20, 1e300])
+def test_block_with_an_absurd_strength_is_the_dry_block(fc):
+    """A crushing force far beyond the loads (CRUSHING_FAR) takes eq. 4's rows: the dry
+    block's B / H (its polygon's facets, of the size of f_c, made the associative LP
+    'Empty' from f_c = 1e18)."""
+    assert solved(block(fc=fc)) == pytest.approx(B / H, rel=1e-9)
+
+
 def test_block_that_crushes_under_its_own_weight():
     out = solve(block(fc=2.9), SolveOptions(workers=1, starts=0))   # W = 6 > B b f_c = 5.8
     assert out.status == "unstable" and out.best is None

@@ -87,6 +87,29 @@ def test_tension_raises_alpha(ft):
     assert r.alpha > A / H
 
 
+@pytest.mark.parametrize("c0", [0.0, 0.01])
+def test_tension_needs_cohesion(c0):
+    """Two unit cubes stacked (mu 0.6), f_t = 0.1: a point takes tension only under its
+    cone's apex, min(f_t, c0 / mu) A. Without cohesion none (the dry alpha, 1/2); with
+    c0 = 0.01 the base's back points open at the apex: alpha = 1/2 + (c0 / mu) A."""
+    mu, area = 0.6, 0.25
+    r = solve(strong(stack_of_boxes(2, 1.0, 1.0, 1.0, mu=mu), ft=0.1, cohesion=c0))
+    assert r.state is not None and r.alpha == pytest.approx(0.5 + min(0.1, c0 / mu) * area, abs=1e-7)
+
+
+@pytest.mark.parametrize("mu", [1e8, 1e9])
+@pytest.mark.parametrize("fc", [np.inf, 10.0])
+def test_a_huge_mu_keeps_the_associative_bound_above_alpha(mu, fc):
+    """Three unit cubes stacked, mu 1e8 or 1e9 (no sliding): the stack turns about a base
+    edge at alpha = 1/3 and the associative bound, max alpha over S, is not below it (the
+    cones' rows scaled to the solver's tolerances: at mu 1e8 the bound was 7e-6 under alpha,
+    at 1e9 the stack was found unstable)."""
+    s = stack_of_boxes(3, 1.0, 1.0, 1.0, mu=mu)
+    r = solve(s if np.isinf(fc) else strong(s, fc=fc))
+    assert r.state is not None and r.alpha == pytest.approx(1 / 3, abs=1e-7)
+    assert r.associative >= r.alpha - 1e-8
+
+
 def test_units_scale_the_stresses():
     """Lengths times 3, forces times 7: stresses times 7 / 9, the same alpha."""
     s = box_on_ground(A, B, H, mu=5.0)
@@ -309,5 +332,18 @@ def test_a_tension_state_passes_the_oracle(tmp_path):
     c = pd.read_csv(o / "contacts.csv")
     opening = c["mode"] == "opening"
     assert opening.sum() == 2 and np.allclose(c["N"][opening], 0.1 * A * B / 4)
+    assert violations(o) == []
+
+
+def test_tension_at_the_cone_s_apex_passes_the_oracle(tmp_path):
+    """--ft 0.1 --cohesion 0.05 on the box file (mu 5): the apex c0 A / mu is below f_t A;
+    the back points open there and the oracle, rebuilding the caps from the CSV columns,
+    finds the state exact."""
+    f = tmp_path / "box.json"
+    f.write_text(json.dumps(box_spec()))
+    o = tmp_path / "o"
+    assert command("solve", [str(f), "--out", str(o), "--no-plot", "--quiet", "--ft", "0.1", "--cohesion", "0.05"]) == 0
+    weight, Pt = A * B * H, 2 * 0.05 / 5.0 * A * B / 4
+    assert pd.read_csv(o / "summary.csv")["alpha"][0] == pytest.approx((weight + 2 * Pt) * A / (weight * H), abs=1e-7)
     assert violations(o) == []
 

@@ -1,7 +1,7 @@
 """The search's programs in space for joints with strengths: crushing, tension, cohesion.
 
 :class:`~.problem3d.ConeProblem` with the caps of :mod:`lamodel.formulation.space` (per
-point ``N_c = -f_c A <= N <= N_t = f_t A`` and ``||T|| <= k - mu N``, k = c0 A). A point
+point ``N_c = -f_c A <= N <= N_t = min(f_t A, k / mu)`` and ``||T|| <= k - mu N``, k = c0 A). A point
 has three rows: ``p`` its opening (``N = N_t``), ``np + p`` its sliding (on its cone, along
 the slip) and ``2 np + p`` its crushing (``N = N_c``, the point closes); its opening or
 crushing and its sliding may flow together (the domain's corners). The fictitious
