@@ -24,7 +24,7 @@ import scipy.sparse as sp
 from .basis import solve as basis_solve
 from .options import Deadline, Stopped
 from .tuning import (ABANDONED_EXIT_WAIT, BASIS_TOLERANCE, CAP_BACKSTOP, CAP_BACKSTOP_MIN, CAP_BACKSTOP_SAMPLE,
-                     INLINE_COLUMNS, IPM_COLUMNS, IPM_TOLERANCE, LP_TOLERANCE, WAIT_SLICE)
+                     HIGHS_THREADS, INLINE_COLUMNS, IPM_COLUMNS, IPM_TOLERANCE, LP_TOLERANCE, WAIT_SLICE)
 
 INF = highspy.kHighsInf
 _NEVER = Deadline()
@@ -42,6 +42,8 @@ class QuietHighs(highspy.Highs):
     def __init__(self):
         super().__init__()
         self.setOptionValue("output_flag", False)  # highspy versions without enableCallbacks
+        # before any solve of the process: its first sets the scheduler's threads for good
+        self.setOptionValue("threads", HIGHS_THREADS)
 
 
 _abandoned: list[threading.Thread] = []

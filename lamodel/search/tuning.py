@@ -175,6 +175,10 @@ SIDE_LANE_SHARE = 8.0
 #: threads spin between products and cost CPU but save no time, and one thread makes those sums
 #: the same on any machine.
 BLAS_THREADS = 1
+#: Threads of HiGHS's task scheduler (one per process, made by its first solve): the search's
+#: LPs are serial simplex solves, and the scheduler's idle threads spin between them, taking
+#: a core from the search beside it (side by side, a fifth of the CPU time for nothing).
+HIGHS_THREADS = 1
 #: While waiting for a parallel evaluation the search checks its deadline this often (s).
 EVALUATION_SLICE = 0.1
 #: Contexts (one structure's prepared data) a worker process keeps: a few structures at a time.
