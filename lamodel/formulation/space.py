@@ -82,16 +82,22 @@ def kinematic_multiplier(f0, mu, u, q, N, caps=None) -> float:
     if caps is None:
         return float(-np.dot(f0, u) - np.sum(mu * N * slip))
     crush, tension, k = caps
-    c = np.maximum(k - mu * N, 0.0)
-    return float(-np.dot(f0, u) + np.sum(c * slip) + cap_dissipation(caps, q[:npt]))
+    c = np.maximum(_finite(k) - mu * N, 0.0)
+    return float(-np.dot(f0, u) + np.sum(np.where(np.isfinite(k), c, 0.0) * slip) + cap_dissipation(caps, q[:npt]))
+
+
+def _finite(v):
+    """``v`` with its infinite entries (caps no state reaches) 0."""
+    return np.where(np.isfinite(v), v, 0.0)
 
 
 def cap_dissipation(caps, qn) -> float:
     """The caps' dissipation ``sum N_t q_n+ + N_c q_n-`` (q_n- = min(q_n, 0); a point
-    without a crushing cap closes by nothing, and contributes nothing)."""
+    without a crushing cap closes by nothing, one without a tensile cap opens by nothing, and
+    contributes nothing: the residual test rejects such a motion)."""
     crush, tension, _ = caps
     closing = np.minimum(qn, 0.0)
-    return float(np.sum(tension * np.maximum(qn, 0.0)) + np.sum(np.where(np.isfinite(crush), crush, 0.0) * closing))
+    return float(np.sum(_finite(tension) * np.maximum(qn, 0.0)) + np.sum(_finite(crush) * closing))
 
 
 def gap_weights(mu, q) -> np.ndarray:
@@ -110,7 +116,7 @@ def gap_constant(caps, mu, q) -> float:
     if caps is None:
         return 0.0
     slip = np.hypot(q[npt:2 * npt], q[2 * npt:])
-    return float(np.sum(caps[2] * slip)) + cap_dissipation(caps, q[:npt])
+    return float(np.sum(_finite(caps[2]) * slip)) + cap_dissipation(caps, q[:npt])
 
 
 def scales(s: Structure3D):
@@ -160,14 +166,17 @@ class Formulation3D(Statics):
 
     @property
     def caps(self):
-        """``(N_c, N_t, k)`` per point with the joints' strengths (module doc), else None."""
+        """``(N_c, N_t, k)`` per point with the joints' strengths (module doc), else None.
+        A cap or cohesion force beyond CAP_FAR times the loads is infinite (-inf, inf, inf):
+        no state reaches it, and its rows would only spoil the programs' scale. A point of
+        infinite k has no cone (it never slides), one of infinite N_t never opens."""
         if not self.structure.has_materials:
             return None
         if getattr(self, "_caps", None) is None:
+            far = CAP_FAR * (np.abs(self.f0).sum() + np.abs(self.fbar).sum())
             crush, tension, k = self.structure.caps()
-            # a cap no state reaches is none (CAP_FAR): its row would only spoil the programs' scale
-            loads = np.abs(self.f0).sum() + np.abs(self.fbar).sum()
-            self._caps = (np.where(crush < -CAP_FAR * loads, -np.inf, crush), tension, k)
+            self._caps = (np.where(crush < -far, -np.inf, crush), np.where(tension > far, np.inf, tension),
+                          np.where(k > far, np.inf, k))
         return self._caps
 
     def split(self, s_f):

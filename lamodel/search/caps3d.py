@@ -29,8 +29,11 @@ def _per_block(v, scale):
 
 def residuals(form: Formulation3D, N, T1, T2, alpha, u, q) -> dict:
     """Violations of every condition of a collapse state with caps (module doc; 0 is
-    exact), each with one dimension, under the names of the dry test."""
-    crush, tension, k = form.caps
+    exact), each with one dimension, under the names of the dry test. The domain is the
+    real one (every cap, however far); the flow rules the programs': a point never opens
+    where its tensile cap is infinite (CAP_FAR), nor slips where its cohesion force is."""
+    crush, tension, k = form.structure.caps()
+    _, opens, slides = np.isfinite(form.caps)
     L = form.structure.size()
     mu = form.mu
     npt = len(N)
@@ -41,21 +44,24 @@ def residuals(form: Formulation3D, N, T1, T2, alpha, u, q) -> dict:
     slip = np.hypot(s1, s2)
     c = k - mu * N
     below = np.where(np.isfinite(crush), crush - N, -np.inf)
-    crushable = np.isfinite(crush)
+    crushable = np.isfinite(form.caps[0])
     closing = np.maximum(-qn, 0.0)
-    off_top = np.minimum(np.abs(tension - N) / F, 1.0)
+    off_top = np.where(opens, np.minimum(np.abs(tension - N) / F, 1.0), 1.0)
     off_bottom = np.where(crushable, np.minimum(np.abs(N - np.where(crushable, crush, 0.0)) / F, 1.0), 0.0)
     return {
         "equilibrium": float(np.abs(eq).max() / F),
         "cone": float(max((np.hypot(T1, T2) - c).max(), (N - tension).max(), below.max(), 0.0) / F),
         "compatibility": float(np.abs(q - form.strains(u)).max() / U),
         "normalisation": float(abs(form.fbar @ u - 1.0)),
-        "opening_sign": float(max(closing[~crushable].max(initial=0.0), 0.0) / U),
+        # a point closes only where it may crush, opens only where it may open
+        "opening_sign": float(max(closing[~crushable].max(initial=0.0), np.max(qn, where=~opens, initial=0.0)) / U),
         # a motion at a point off its cap: the smaller of its size and its work there
         # (a cap far away times a round-off closing is no violation)
         "opening_complementarity": float(max(np.max(off_top * np.maximum(qn, 0.0), initial=0.0),
                                              np.max(off_bottom * closing, initial=0.0)) / U),
-        "slip_flow_rule": float(np.abs(c * slip - (T1 * s1 + T2 * s2)).max() / (F * U)),
+        # on the cone along T, or (a point of infinite cohesion force) no slip at all
+        "slip_flow_rule": float(max(np.max(np.abs(c * slip - (T1 * s1 + T2 * s2)), where=slides, initial=0.0) / F,
+                                    np.max(slip, where=~slides, initial=0.0)) / U),
         "slip_alignment": float(np.abs(T1 * s2 - T2 * s1).max() / (F * U)),
         "virtual_work": float(abs(form.kinematic_multiplier(u, q, N) - alpha) / max(abs(alpha), 1.0)),
     }
@@ -70,10 +76,10 @@ def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, crush
     crush, tension, k = form.caps
     n = form.np
     mu = form.mu
-    opening = np.asarray(opening, bool)
+    opening = np.asarray(opening, bool) & np.isfinite(tension)   # infinite: the point never opens
     crushing = np.zeros(n, bool) if crushing is None else np.asarray(crushing, bool) & ~opening
-    sliding = np.asarray(sliding, bool)
-    other = np.flatnonzero(~sliding)
+    sliding = np.asarray(sliding, bool) & np.isfinite(k)         # ... nor slides (its T free)
+    other = np.flatnonzero(~sliding & np.isfinite(k))
     nx = 3 * n + 1
     rows, lo, hi = [sp.hstack([form.A, sp.csr_matrix(form.fbar.reshape(-1, 1))])], [-form.f0], [-form.f0]
     isl = np.flatnonzero(sliding)
@@ -94,7 +100,7 @@ def statics_lp(form: Formulation3D, opening, sliding, slide_dir, ref=None, crush
     lo.append(np.full(p.size, -INF))
     hi.append(k[p] * cos)
     c_lo = np.r_[np.where(np.isfinite(crush), crush, -INF), np.full(2 * n, -INF), 0.0]
-    c_hi = np.r_[tension, np.full(2 * n, INF), INF]
+    c_hi = np.r_[np.where(np.isfinite(tension), tension, INF), np.full(2 * n, INF), INF]
     c_lo[:n][opening] = tension[opening]
     c_hi[:n][crushing] = c_lo[:n][crushing] = crush[crushing]
     cost = np.zeros(nx)
@@ -116,9 +122,9 @@ def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     crush, tension, k = form.caps
     npt, nb = form.np, form.nb
     mu = form.mu
-    scale = max(np.abs(N).max(), np.abs(k).max(), 1e-300)
+    scale = max(np.abs(N).max(), np.abs(k[np.isfinite(k)]).max(initial=0.0), 1e-300)
     Tn = np.hypot(T1, T2)
-    c = k - mu * N
+    c = k - mu * N   # inf where the point never slides: neither at the apex nor on the cone
     at_top = tension - N <= tol * scale
     at_bottom = np.isfinite(crush) & (N - np.where(np.isfinite(crush), crush, -INF) <= tol * scale)
     apex = c <= tol * scale  # the cone's apex (T = 0): any slip, no dissipation
@@ -135,7 +141,7 @@ def mechanism_lp(form: Formulation3D, N, T1, T2, tol=CONTACT_TOL):
     hi = np.r_[n_hi, np.zeros(ic.size), np.full(ic.size, INF), np.zeros(2 * still.size), 1.0]
     # alpha_K = -f0 u + sum N_t qn (opening) + N_c qn (closing) + c (slip . T_hat): the
     # caps' terms at the statics' own N, which the flow rule makes equal to them
-    cost = -form.f0 + Qn.T @ N + along.T @ (c * on_cone)
+    cost = -form.f0 + Qn.T @ N + along.T @ np.where(on_cone, c, 0.0)
     lp = HighsLP(rows.tocsr(), lo, cost, np.full(6 * nb, -INF), np.full(6 * nb, INF), name="mechanism3d-caps", b_hi=hi)
     if lp.solve() != "optimal":
         return None

@@ -129,12 +129,13 @@ class ConePrograms:
         return sp.vstack([rows, alpha])
 
     def _capped(self, may_open=None, may_crush=None):
-        """With the joints' strengths: rows ``N <= N_t`` (every point, or ``may_open``),
-        ``-N <= -N_c`` (the points with a crushing cap, or those of ``may_crush``) and
-        alpha >= 0, and their right-hand sides."""
+        """With the joints' strengths: rows ``N <= N_t`` (the points with a tensile cap, or
+        those of ``may_open``), ``-N <= -N_c`` (the points with a crushing cap, or those of
+        ``may_crush``) and alpha >= 0, and their right-hand sides."""
         n = self.np
         crush, tension, _ = self.form.caps
-        up = np.arange(n) if may_open is None else np.flatnonzero(may_open)
+        up = np.isfinite(tension) if may_open is None else np.isfinite(tension) & np.asarray(may_open, bool)
+        up = np.flatnonzero(up)
         down = np.isfinite(crush) if may_crush is None else np.isfinite(crush) & np.asarray(may_crush, bool)
         down = np.flatnonzero(down)
         k = up.size + down.size
@@ -149,6 +150,15 @@ class ConePrograms:
             out[0::3] = self.form.caps[2]
         return out
 
+    def _coned(self):
+        """The points with a cone (all but those of infinite cohesion force: T free)."""
+        return np.ones(self.np, bool) if self.form.caps is None else np.isfinite(self.form.caps[2])
+
+    def _cones(self, points, soc, b):
+        """The SOC rows ``soc`` and right-hand sides ``b`` (3 np) of ``points`` (bool, np)."""
+        keep = np.flatnonzero(np.repeat(points, 3))
+        return soc[keep], b[keep], int(points.sum())
+
     # ------------------------------------------------------------------ programs
     def associative(self, time_limit=None) -> ConeResult:
         """max alpha over S (the Coulomb cone at every point)."""
@@ -156,8 +166,9 @@ class ConePrograms:
         cost[-1] = -1.0
         if self.form.caps is not None:
             rows, b = self._capped()
-            return self._solve(cost, self.E, -self.form.f0, rows, self._soc_N + self._soc_T, self._radius(), self.np,
-                               time_limit, b_nonneg=b)
+            return self._solve(cost, self.E, -self.form.f0, rows,
+                               *self._cones(self._coned(), self._soc_N + self._soc_T, self._radius()), time_limit,
+                               b_nonneg=b)
         return self._solve(cost, self.E, -self.form.f0, self._nonneg(), self._soc_N + self._soc_T,
                            np.zeros(3 * self.np), self.np, time_limit)
 
@@ -174,7 +185,7 @@ class ConePrograms:
         c = np.maximum(np.asarray(c, float), 0.0)
         cost = np.zeros(self.nx)
         cost[-1] = -1.0
-        slip = np.ones(n, bool) if may_slip is None else np.asarray(may_slip, bool)
+        slip = self._coned() if may_slip is None else np.asarray(may_slip, bool) & self._coned()
         b = np.zeros(3 * n)
         b[0::3] = c
         keep = np.flatnonzero(np.repeat(slip, 3))
@@ -231,7 +242,7 @@ class ConePrograms:
     def _capped_statics(self, w, opening, sliding, slide_dir, time_limit, crushing):
         """:meth:`statics` with the joints' strengths: opening points at ``N = N_t``,
         crushing ones at ``N = N_c``, sliding ones at ``T = (k - mu N) s_hat``; every
-        point keeps its cone and its caps."""
+        point keeps its cone and its caps (those it has: none infinite)."""
         n = self.np
         crush, tension, k = self.form.caps
         cost = np.zeros(self.nx)
@@ -240,7 +251,9 @@ class ConePrograms:
             cost[:3 * n] = w
         held = [np.zeros(n, bool) if m is None else np.asarray(m, bool) for m in (opening, crushing, sliding)]
         opening, crushing, sliding = held
+        opening = opening & np.isfinite(tension)   # a point of infinite caps or k never moves so
         crushing = crushing & ~opening & np.isfinite(crush)
+        sliding = sliding & np.isfinite(k)
         zero, bz = [self.E], [-self.form.f0]
         for pts, value in ((opening, tension), (crushing, crush)):
             idx = np.flatnonzero(pts)
@@ -251,5 +264,6 @@ class ConePrograms:
             zero += self._slide_rows(isl, slide_dir)
             bz += [k[isl] * np.asarray(slide_dir, float)[isl, j] for j in (0, 1)]
         rows, bn = self._capped()
-        return self._solve(cost, sp.vstack(zero), np.concatenate(bz), rows, self._soc_N + self._soc_T,
-                           self._radius(), n, time_limit, b_nonneg=bn)
+        return self._solve(cost, sp.vstack(zero), np.concatenate(bz), rows,
+                           *self._cones(self._coned(), self._soc_N + self._soc_T, self._radius()), time_limit,
+                           b_nonneg=bn)

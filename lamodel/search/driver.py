@@ -228,8 +228,9 @@ def _nothing_certified(engine, alpha_assoc, stopped):
         except Stopped:
             status = "stopped"
         if status == "unbounded":
-            return NO_COLLAPSE, ("no collapse for this live load: no mechanism can follow it (even frictionless "
-                                   "joints carry any multiple of it)"), alpha_assoc
+            glued = getattr(engine.problem, "glued_message", lambda: "")()
+            return NO_COLLAPSE, ("no collapse for this live load: no mechanism can follow it"
+                                 + (glued or " (even frictionless joints carry any multiple of it)")), alpha_assoc
         return NOT_CERTIFIED, (
             f"no collapse state certified{when}: the associative LP is unbounded (the statics carries any "
             "multiple of the live load with dilatant friction) and the search found no mechanism of the "

@@ -81,6 +81,8 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         engine.fitness.associative(x0)
         if kind == "unstable" or kind not in ("ok", "unbounded"):
             return kind, alpha_assoc, 0
+        if x0 is None:  # unbounded, and no statics to start from: the verdict asks the weakest system
+            return "searched", alpha_assoc, 0
         if on_associative is not None and kind == "ok":
             on_associative(alpha_assoc)
         progress.bound(alpha_assoc)

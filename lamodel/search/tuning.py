@@ -402,8 +402,9 @@ CRUSHING_FAN_RATIO = 16.0
 CRUSHING_FAR = 1e12
 
 # ------------------------------------------------------------- joints' strengths in space
-#: A crushing cap beyond this many times the loads' size (dead and live forces' sum) is
-#: never reached: left out of the programs (an infinite f_c); the state is checked against every cap.
+#: A crushing or tensile cap or a cohesion force beyond this many times the loads' size (dead and
+#: live forces' sum) is never reached: infinite in the programs (a point never crushes, opens or
+#: slides; rows of 1e20 failed Clarabel); the state is checked against every real cap.
 CAP_FAR = 1e6
 #: The dry certificate (lamodel.search.gap.dry): a dry state is within the crushing caps when no
 #: joint passes its cap by more than this share of its capacity (a dry hinge overshoots the stress

@@ -137,6 +137,58 @@ def cuboid(x0, y0, z0, x1, y1, z1):
     return [[x, y, z] for z in (z0, z1) for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
 
 
+@pytest.mark.parametrize("fc", [np.inf, 1e20])
+def test_glued_joints_do_not_collapse(fc, monkeypatch):
+    """Two unit cubes stacked (mu 0.6), f_t = c0 = 1e20 (and f_c): every tensile and cohesion
+    force is far beyond the loads (CAP_FAR), so no point opens or slides and no mechanism
+    exists: no collapse, said in one line (once not certified: the programs' rows of 1e20),
+    also where the least-alpha statics the search starts from has no optimum (once a TypeError)."""
+    from lamodel.search.gap.capped3d import CappedConeProblem
+    s = strong(stack_of_boxes(2, 1.0, 1.0, 1.0, mu=0.6), ft=1e20, cohesion=1e20, fc=fc)
+    r = solve(s)
+    assert r.status == "no_collapse" and r.state is None and "glue" in r.message and "\n" not in r.message
+    statics = CappedConeProblem.statics
+    monkeypatch.setattr(CappedConeProblem, "statics", lambda self, *a, maximize=False, **k: (
+        statics(self, *a, maximize=True, **k) if maximize else ("InsufficientProgress", None)))
+    r = solve(s)
+    assert r.status == "no_collapse" and r.state is None
+
+
+@pytest.mark.parametrize("extra", [[], ["--fc", "1e20"]])
+def test_glued_joints_on_the_command_line(tmp_path, capsys, extra):
+    """The same stack from a 3D JSON file, --ft 1e20 --cohesion 1e20: exit status 3 and
+    no_collapse, no internal error (once a TypeError from the associative program's
+    least-alpha fallback)."""
+    d = {"name": "stack", "dimension": 3, "mu": 0.6, "live_load": [1.0, 0.0, 0.0], "blocks": [
+        {"id": "ground", "support": True, "vertices": cuboid(-2, -2, -1, 2, 2, 0)},
+        {"id": "b1", "vertices": cuboid(-0.5, -0.5, 0, 0.5, 0.5, 1)},
+        {"id": "b2", "vertices": cuboid(-0.5, -0.5, 1, 0.5, 0.5, 2)}]}
+    f = tmp_path / "stack.json"
+    f.write_text(json.dumps(d))
+    args = [str(f), "--out", str(tmp_path / "o"), "--no-plot", "--quiet", "--ft", "1e20", "--cohesion", "1e20"]
+    assert command("solve", args + extra) == 3
+    assert "error" not in capsys.readouterr().err
+    assert pd.read_csv(tmp_path / "o" / "summary.csv")["status"][0] == "no_collapse"
+
+
+def test_a_huge_cohesion_alone_blocks_sliding_only():
+    """c0 = 1e20 alone (f_t = 0): no point slides, none takes tension, so the stack of two
+    unit cubes still turns about a base edge at the dry alpha 1/2 (once 'associative LP
+    failed' from the cones' radii of 1e20); with mu 0.3 it slides dry at 0.3, glued at 1/2.
+    Cohesion glueing only the base: the top cube slides on it (mu 0.6)."""
+    for mu in (0.6, 0.3):
+        r = solve(strong(stack_of_boxes(2, 1.0, 1.0, 1.0, mu=mu), cohesion=1e20))
+        assert r.status == "certified" and r.alpha == pytest.approx(0.5, abs=1e-7)
+        assert "sliding" not in set(r.state.modes)
+    s = stack_of_boxes(2, 1.0, 1.0, 1.0, mu=0.6)
+    base = s.point_interface == 0
+    s = replace(s, ft=np.where(base, 1e20, 0.0), cohesion=np.where(base, 1e20, 0.0), fc=np.full(s.n_points, np.inf),
+                area=None).validate()
+    r = solve(s)
+    assert r.status == "certified" and r.alpha == pytest.approx(0.6, abs=1e-7)
+    assert set(np.asarray(r.state.modes)[base]) == {"stuck"} and set(np.asarray(r.state.modes)[~base]) == {"sliding"}
+
+
 def test_zero_strengths_write_today_s_files(tmp_path):
     """A file with "ft": 0 and "cohesion": 0 (and no fc) is the dry structure: the same
     result files, byte for byte (but the command line in the summary)."""

@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from .. import caps3d
-from ..tuning import CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS
+from ..tuning import CAP_FAR, CONE_FLOW_TOLS, CONE_LP_FIRST_POINTS
 from .problem3d import ConeProblem
 
 
@@ -115,6 +115,15 @@ class CappedConeProblem(ConeProblem):
             return ("; with dry joints it stands: the joints crush under the dead load "
                     "(compressive strength fc too small for the forces their points carry)")
         return ""
+
+    def glued_message(self) -> str:
+        """Why no mechanism follows the load when the reason is joints that neither open nor
+        slide (tensile and cohesion forces beyond CAP_FAR times the loads); '' otherwise."""
+        _, tension, k = self.caps
+        if np.isfinite(tension).all() and np.isfinite(k).all():
+            return ""
+        return (f" (its joints' tensile strength and cohesion, beyond {CAP_FAR:g} times the loads, glue them: "
+                "a point of such strengths neither opens nor slides)")
 
     def _state(self, x, u, source):
         st = super()._state(x, u, source)

@@ -15,7 +15,8 @@ from .lanes import Start
 
 def associative(engine):
     """Stability and the associative bound. Returns (status, alpha_assoc, x_assoc): status
-    'ok', 'unstable' (S is empty), 'unbounded' (x: a least-alpha statics) or HiGHS's word."""
+    'ok', 'unstable' (S is empty), 'unbounded' (x: a least-alpha statics, None where that
+    program has no optimum either: no start for the search) or the solver's word."""
     t = time.perf_counter()
     p = engine.problem
     try:
@@ -23,8 +24,8 @@ def associative(engine):
         if status == "infeasible":
             return "unstable", np.nan, None
         if status == "unbounded":
-            _, x = p.statics()  # least alpha instead: start somewhere finite
-            return "unbounded", INF, x
+            least, x = p.statics()  # least alpha instead: start somewhere finite
+            return "unbounded", INF, x if least == "optimal" else None
         if status != "optimal":
             return status, np.nan, None
         return "ok", float(x[-1]), x
