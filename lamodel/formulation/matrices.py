@@ -13,7 +13,8 @@ and the tests — takes its coefficients from here. Conventions are those of :mo
 * with the joint's strengths (:mod:`.joints`: crushing, tension, cohesion) eq. (4)
   becomes ``Y s_f <= b`` (:func:`strength_rows`) and the fictitious cohesion
   ``c0 (2 d b) - mu N``; a dry joint (the default) keeps eq. (4) and every matrix above
-  as it is;
+  as it is; the programs take tensile and cohesion forces beyond CAP_FAR times the loads
+  as infinite (:func:`far_bounds`);
 * the same statics in friction-cone generator form ``s_f = T lambda``, ``lambda >= 0``
   (:func:`generator_matrix`), and the columns of the fictitious cohesive LP
   (:func:`cohesive_matrix`).
@@ -25,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FAR, CRUSHING_FLOOR
+from ..search.tuning import CAP_FAR, CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FAR, CRUSHING_FLOOR
 from ..structure import YIELD_ROWS, Structure
 from .joints import facets, fractions
 
@@ -98,14 +99,46 @@ def flow_matrix(s: Structure) -> sp.csr_matrix:
     return sp.bmat([[Z, I, Z], [Z, -I, Z], [D, Z, -I], [D, Z, I]], format="csr")
 
 
+def _loads(s: Structure) -> float:
+    """The dead and live forces' sum: what the joints' far strengths are measured against."""
+    return float(np.abs(s.dead).sum() + np.abs(s.live).sum())
+
+
 def crushing_strengths(s: Structure) -> np.ndarray:
     """(nc,) each joint's f_c as its rows take it: infinite (eq. 4's hinge rows, shifted by
     the tension) where its crushing force 2 d b f_c passes CRUSHING_FAR times the loads
     (the dead and live forces' sum): the stress block is the cone there to round-off, and
     its polygon's facets, of the size of that force, would pass what an LP can hold."""
-    loads = np.abs(s.dead).sum() + np.abs(s.live).sum()
-    far = 2 * s.d * s.thickness * s.fc > CRUSHING_FAR * loads
+    far = 2 * s.d * s.thickness * s.fc > CRUSHING_FAR * _loads(s)
     return np.where(far, np.inf, s.fc)
+
+
+def far_strengths(s: Structure):
+    """(tension, cohesion), each (nc,) bool: the joints whose tensile force 2 d b f_t, or
+    cohesion force c0 2 d b, passes CAP_FAR times the loads. A state of forces of the
+    loads' size never reaches them: the programs take them as infinite (:func:`far_bounds`)."""
+    far = CAP_FAR * _loads(s)
+    area = joint_area(s)
+    tension, cohesion = area * s.ft > far, area * s.cohesion > far
+    if np.any(tension & (s.fc < s.ft)):  # the input's checks keep f_t <= f_c
+        raise ValueError("a joint's tensile strength ft passes its compressive strength fc")
+    return tension, cohesion
+
+
+def far_bounds(s: Structure, b: np.ndarray) -> np.ndarray:
+    """The right-hand sides ``b`` of :func:`strength_rows` as the programs take them: +inf
+    (the row is left out) on the slides of a joint of far cohesion (it never slides: V
+    free) and on every facet of a joint of far tension (it never opens, turns or crushes:
+    N and M free). Sound as f_c >= f_t: with N_t = 2 d b f_t and N_c <= -N_t the stress
+    block carries any |M| <= d N_t / 8 at |N| <= N_t / 2 (moment_capacity = d (N_t - N)
+    (N - N_c) / (N_t - N_c)), beyond CAP_FAR / 8 times the loads. The residual test keeps
+    ``b`` itself (:meth:`Formulation.slack`)."""
+    tension, cohesion = far_strengths(s)
+    kinds = len(b) // s.n_contacts
+    out = b.copy().reshape(kinds, -1)
+    out[:2, cohesion] = np.inf
+    out[2:, tension] = np.inf
+    return out.ravel()
 
 
 def facets_per_half(s: Structure) -> int:
@@ -304,12 +337,15 @@ class Formulation(Statics):
     G: sp.csr_matrix
     #: right-hand sides of ``Y s_f <= b`` with the joint's strengths (None: eq. 4, b = 0)
     b: np.ndarray | None = None
+    #: ... as the programs take them: +inf on the rows of far strengths (:func:`far_bounds`)
+    b_far: np.ndarray | None = None
 
     @classmethod
     def of(cls, s: Structure) -> "Formulation":
         f0, fbar = load_vectors(s)
         if s.has_materials:
-            return cls(s, equilibrium_matrix(s), f0, fbar, *strength_rows(s))
+            Y, G, b = strength_rows(s)
+            return cls(s, equilibrium_matrix(s), f0, fbar, Y, G, b, far_bounds(s, b))
         return cls(s, equilibrium_matrix(s), f0, fbar, yield_matrix(s), flow_matrix(s))
 
     @property
@@ -321,7 +357,8 @@ class Formulation(Statics):
         return self.structure.n_contacts
 
     def slack(self, s_f) -> np.ndarray:
-        """b - Y s_f: the yield slacks (>= 0 when admissible), stacked by row (b = 0 for eq. 4)."""
+        """b - Y s_f: the yield slacks (>= 0 when admissible), stacked by row (b = 0 for eq. 4;
+        the real b, however far: the residual test checks a state against it)."""
         out = -(self.Y @ s_f[:3 * self.nc])
         return out if self.b is None else out + self.b
 

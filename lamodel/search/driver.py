@@ -210,6 +210,9 @@ def _verdict(engine, what, alpha_assoc):
     """Status and message of the search (:func:`.plan.run` said ``what``)."""
     if what == "unstable":
         return UNSTABLE, _unstable_message(engine)
+    if what == "stability unknown":
+        return NOT_CERTIFIED, ("no collapse state certified: the LP of the least alpha over the statics failed, "
+                               "so whether the structure stands under its dead load is not known")
     if what not in ("searched", "stopped"):
         return NOT_CERTIFIED, f"the associative LP failed ({what})"
     if engine.record.best is None:

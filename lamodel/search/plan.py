@@ -90,9 +90,10 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         phase(progress, "first certificate")
         first_certificate(engine, x0, workers, given)
         # (stability gives the statics LP back its basis near the collapse states: the GA starts there)
-        if not stable(engine):
+        standing = stable(engine)
+        if not standing:
             engine.record.withdraw()
-            return "unstable", alpha_assoc, 0
+            return ("unstable" if standing is False else "stability unknown"), alpha_assoc, 0
         lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
         engine.budget.after_first(lps_first)  # the bounds of the rest of the search (none under a time limit)
         if x0 is not None and np.isfinite(alpha_assoc):

@@ -129,8 +129,10 @@ def _method(structure, method, deadline) -> Result3D:
             raw = res.alpha
             if res.u is not None:
                 eng.certifier.certify(res.u, p.flows(res.u), ASSOCIATIVE)
-        if eng.record.best is not None and not stable(eng):
-            out.status, out.message = UNSTABLE, unstable_message()
+        standing = True if eng.record.best is None else stable(eng)
+        if not standing:
+            out.status, out.message = (UNSTABLE, unstable_message()) if standing is False else (
+                NOT_CERTIFIED, "the least-alpha statics failed: whether it stands under dead load is not known")
             eng.record.withdraw()
     except Stopped:
         out.status = INTERRUPTED

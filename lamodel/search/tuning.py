@@ -400,12 +400,12 @@ CRUSHING_FAN_RATIO = 16.0
 #: rows (f_c infinite): the stress block's moment is within |N| / (2 d b f_c) of the cone's, below
 #: round-off, where its polygon's facets of that size pass HiGHS's limits (f_c 1e18: 'Empty').
 CRUSHING_FAR = 1e12
+#: A tensile or cohesion force (in space also a crushing cap) beyond this many times the loads (dead
+#: and live forces' sum) is infinite in the programs: never reached; rows of 1e20 failed Clarabel, and
+#: of 1.5e9 times the loads HiGHS (a planar stack 'unstable'). States are checked against the real ones.
+CAP_FAR = 1e6
 
 # ------------------------------------------------------------- joints' strengths in space
-#: A crushing or tensile cap or a cohesion force beyond this many times the loads' size (dead and
-#: live forces' sum) is never reached: infinite in the programs (a point never crushes, opens or
-#: slides; rows of 1e20 failed Clarabel); the state is checked against every real cap.
-CAP_FAR = 1e6
 #: The dry certificate (lamodel.search.gap.dry): a dry state is within the crushing caps when no
 #: joint passes its cap by more than this share of its capacity (a dry hinge overshoots the stress
 #: block by |N| / (2 d b f_c) of its moment: measured in docs/method/materials.md).

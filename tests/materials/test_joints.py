@@ -9,17 +9,18 @@ import dataclasses
 import numpy as np
 import pytest
 
-from conftest import INSTANCES, rect
+from conftest import INSTANCES, rect, stack_spec
 from oracle import check_state, stress_block_moment
 from lamodel.formulation.joints import facets, fractions, moment_capacity, relative_error_bound
-from lamodel.formulation.matrices import Formulation, flow_matrix, strength_rows, yield_matrix
+from lamodel.formulation import matrices
+from lamodel.formulation.matrices import Formulation, far_bounds, flow_matrix, strength_rows, yield_matrix
 from lamodel.io.datfile import read_dat
 from lamodel.io.jsonspec import structure_from_json
 from lamodel.search.driver import SolveOptions, solve
 from lamodel.search.gap import formulation_of
 from lamodel.search.gap.problem import ScaledProblem
 from lamodel.search.gap.strengths import StrengthProblem
-from lamodel.search.tuning import CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FLOOR
+from lamodel.search.tuning import CAP_FAR, CRUSHING_FAN_RATIO, CRUSHING_FACETS, CRUSHING_FLOOR
 
 B, H = 2.0, 3.0
 EPS = relative_error_bound(CRUSHING_FACETS)
@@ -288,3 +289,63 @@ def test_heyman_least_thickness_grows_as_fc_falls():
     assert least_thickness(1e9) == pytest.approx(dry, abs=1e-4)
     needed = [least_thickness(fc) for fc in (100.0, 20.0, 5.0)]
     assert dry < needed[0] < needed[1] < needed[2]
+
+
+# ============================================ far tensile strengths and cohesions (CAP_FAR)
+def stack(**strengths):
+    """The README's two unit blocks stacked on the ground (mu 0.6, loads' sum 4, joints
+    2 d b = 1): overturning at alpha = 1/2, sliding at mu."""
+    return structure_from_json({**stack_spec(), **strengths})
+
+
+def test_far_strengths_are_infinite_rows_of_the_programs_only():
+    """Beyond CAP_FAR times the loads a cohesion leaves out its joint's slides, a tension
+    all its facets (+inf in the programs' b); the real b, which the residual test reads, is
+    unchanged; below it nothing is infinite."""
+    s = stack(ft=1e12, cohesion=3.0)
+    form = Formulation.of(s)
+    nc = s.n_contacts
+    assert np.isfinite(form.b).all() and np.isinf(form.b_far[2 * nc:]).all()
+    assert np.array_equal(form.b_far[:2 * nc], form.b[:2 * nc])
+    s = stack(cohesion=1e20)
+    assert np.isinf(Formulation.of(s).b_far[:2 * nc]).all() and not Formulation.of(s).b_far[2 * nc:].any()
+    below = stack(ft=CAP_FAR, cohesion=CAP_FAR)   # 1e6 < 1e6 x 4
+    assert np.array_equal(far_bounds(below, strength_rows(below)[2]), strength_rows(below)[2])
+
+
+@pytest.mark.parametrize("strengths", [dict(ft=1e12, cohesion=1e12), dict(ft=1e20, cohesion=1e20),
+                                       dict(ft=1e20, cohesion=1e20, fc=1e20), dict(ft=1e12, cohesion=1e12, fc=1e12)])
+def test_stack_glued_by_far_tension_and_cohesion_never_collapses(strengths):
+    """At 1e12 the stack was called unstable ('the joints crush under the dead load': HiGHS
+    ended the least-alpha statics 'unbounded'), at 1e20 the associative LP failed ('Empty')."""
+    out = solve(stack(**strengths), SolveOptions(workers=1, starts=0))
+    assert out.status == "no_collapse" and out.best is None, out.message
+    assert "glue" in out.message and "\n" not in out.message
+
+
+@pytest.mark.parametrize("v", [1e12, 1e20])
+def test_far_cohesion_alone_rocks_and_far_tension_alone_slides(v):
+    """Cohesion alone (f_t = 0): no sliding, the dry rocking alpha 1/2; tension alone (no
+    cohesion: no tension under Coulomb's law) keeps it from turning, and it slides at mu."""
+    assert solved(stack(cohesion=v)) == pytest.approx(0.5, rel=1e-9)
+    assert solved(stack(ft=v)) == pytest.approx(0.6, rel=1e-9)
+
+
+def test_far_cohesion_with_a_finite_fc_still_crushes():
+    """c0 = 1e20 and f_c = 5: the crushing facets stay; the same alpha as with a small
+    cohesion (rocking with crushing governs, sliding neither way)."""
+    assert solved(stack(cohesion=1e20, fc=5.0)) == pytest.approx(solved(stack(cohesion=0.1, fc=5.0)), rel=1e-9)
+
+
+def test_strengths_below_cap_far_are_unchanged():
+    """f_t = c0 = 1e6 (forces 1e6 < CAP_FAR times the loads' 4): the closed form, the stack
+    overturning about its toe against its tension N_t = 1e6: 2 alpha = d (N_t + W), W = 2."""
+    assert solved(stack(ft=1e6, cohesion=1e6)) == pytest.approx(0.5 * (1e6 + 2) / 2, rel=1e-12)
+
+
+def test_a_failed_stability_lp_is_no_instability(monkeypatch):
+    """Without CAP_FAR, f_t = c0 = 1e12's least-alpha statics ends 'unbounded' (min alpha >= 0
+    cannot be): that is no verdict of instability."""
+    monkeypatch.setattr(matrices, "CAP_FAR", 1e300, raising=False)
+    out = solve(stack(ft=1e12, cohesion=1e12), SolveOptions(workers=1, starts=0))
+    assert out.status != "unstable", out.message

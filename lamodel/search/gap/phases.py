@@ -33,8 +33,10 @@ def associative(engine):
         engine.record.phase("associative", t)
 
 
-def stable(engine) -> bool:
-    """Some statics carries the dead load alone (min alpha over S is 0).
+def stable(engine) -> bool | None:
+    """Some statics carries the dead load alone (min alpha over S is 0): True, False (S
+    empty, or its least alpha above 0), or None when the LP ends otherwise (min alpha >= 0
+    is never unbounded: at f_t = c0 = 1e12 HiGHS said so, and the stack was called unstable).
 
     Solved warm from the last basis (a certification LP's, near the least alpha): cheap
     after a certificate, where a cold start costs as much as the associative LP.
@@ -44,7 +46,9 @@ def stable(engine) -> bool:
     before = p.save_bases(("stat",))
     try:
         status, x = p.statics()
-        return status == "optimal" and x[-1] <= p.stable_alpha
+        if status == "optimal":
+            return bool(x[-1] <= p.stable_alpha)
+        return False if status == "infeasible" else None
     finally:
         # Back to the basis near the collapse states: from the alpha = 0 vertex every
         # later certification LP of a 1020-block wall hit its iteration cap (6120

@@ -32,6 +32,8 @@ generators.
   LPs: their slacks and flows are those of the row they copy (``row_of_pair`` maps the
   sigma columns to the rows). One crushing joint among many dry ones (a bridge's passive
   restraint) no longer multiplies every joint's rows.
+* **Far strengths**: a row of infinite right-hand side (:func:`~lamodel.formulation.matrices.far_bounds`)
+  is in no LP and has no sigma column; its slack is infinite, its flow 0.
 
 A structure without strengths never comes here: :func:`lamodel.search.gap.formulation_of`
 keeps :class:`~.problem.ScaledProblem`, whose LPs are those of eq. (4).
@@ -44,11 +46,11 @@ import highspy
 import numpy as np
 import scipy.sparse as sp
 
-from ...formulation.matrices import joint_area, row_origins
+from ...formulation.matrices import row_origins
 from ...structure import Structure
 from ..highs import INF, HighsLP
 from ..options import Deadline
-from ..tuning import FLOW_TOL, LP_TOLERANCE
+from ..tuning import CAP_FAR, FLOW_TOL, LP_TOLERANCE
 from .problem import ScaledProblem
 from .program import CAPPED
 
@@ -66,20 +68,24 @@ class StrengthProblem(ScaledProblem):
     def __init__(self, structure: Structure, deadline: Deadline | None = None):
         s = self._formulate(structure, deadline)
         nb, nc = self.nb, self.nc
-        self.b = self.form.b
-        self.cohesion_area = s.cohesion * joint_area(s)  # c0 A: the real joint's own cohesion
+        self.b = self.form.b_far  # the programs' (module doc: far strengths)
+        self.far = ~np.isfinite(self.b)
+        self.opens = np.isfinite(self.b[2 * nc:3 * nc])  # far tension: the joint never opens
+        self.cohesion_area = self.b[:nc]  # c0 A: the real joint's own cohesion (inf: it never slides)
         self.nr = nr = self.Y.shape[0]
         self.R, self.C = np.ones(3 * nb), np.ones(nc)  # forces already bounded: no light-block scales
         self.row_scale = np.ones(nr)
         # one sigma column a distinct row (module doc); they play the generator form's lambdas
         origin = row_origins(s)
-        self.is_kept = origin == np.arange(nr)
+        self.is_kept = (origin == np.arange(nr)) & ~self.far
         self.kept = np.flatnonzero(self.is_kept)
         self.nl = self.kept.size
         column = np.full(nr, -1)
         column[self.kept] = np.arange(self.nl)
-        self.row_of_pair = sp.csr_matrix((np.ones(nr), (np.arange(nr), column[origin])), shape=(nr, self.nl))
-        self.w = np.maximum(1.0, np.abs(self.b))  # a row's slack is w sigma (module doc)
+        has = column[origin] >= 0  # a far row (and its copies) has none
+        self.row_of_pair = sp.csr_matrix((np.ones(has.sum()), (np.flatnonzero(has), column[origin][has])),
+                                         shape=(nr, self.nl))
+        self.w = np.where(self.far, 1.0, np.maximum(1.0, np.abs(self.b)))  # a row's slack is w sigma (module doc)
         self.w_kept = self.w[self.kept]
         self.column = column  # the sigma column of each kept yield row
         # the rows in force (module doc): the slides and each half's facet at the tension
@@ -177,14 +183,19 @@ class StrengthProblem(ScaledProblem):
                     "(compressive strength fc too small for the forces they carry)")
         return ""
 
+    def glued_message(self) -> str:
+        """Why no mechanism follows the load when far strengths glue joints; '' if none is."""
+        return "" if not self.far.any() else (f" (joints' tensile strength or cohesion beyond {CAP_FAR:g} times "
+                                              "the loads glue them: such a joint never opens, or never slides)")
+
     def _fictitious(self, t, name):
         """The fictitious LP (module doc) whose sliding dilates by t mu: rows equilibrium
         (3 nb) and ``G_t s_f <= bounds`` (nr), columns s_f (3 nc) and alpha; max alpha."""
         nc = self.nc
         G = self.G
-        if t > 0:
-            tmu = sp.csr_matrix((np.tile(t * self.mu, 2), (np.arange(2 * nc), np.tile(np.arange(nc), 2))),
-                                shape=G.shape)
+        if t > 0:  # a joint that never opens (far tension) slides without dilating
+            tmu = np.where(self.opens, t * self.mu, 0.0)
+            tmu = sp.csr_matrix((np.tile(tmu, 2), (np.arange(2 * nc), np.tile(np.arange(nc), 2))), shape=G.shape)
             G = (G + tmu).tocsr()
         k = self.fict_rows
         A = sp.bmat([[self.A, self.fbar.reshape(-1, 1)], [G[k], None]], format="csc")
@@ -316,7 +327,9 @@ class StrengthProblem(ScaledProblem):
         return self.row_of_pair.T @ np.asarray(held, float) > 0
 
     def slack(self, x):
-        return self.row_of_pair @ (self.w_kept * x[:self.nl])
+        out = self.row_of_pair @ (self.w_kept * x[:self.nl])
+        out[self.far] = np.inf
+        return out
 
     def gap_weights(self, xi, u=None):
         """The weights of x = (sigma, ...) in alpha_K - alpha = xi^T (w sigma) (virtual work)."""
@@ -429,7 +442,7 @@ class StrengthProblem(ScaledProblem):
         (gradients (a, -/+1), a > 0), so that ``q = G^T xi`` holds with the seed's G."""
         nc, m = self.nc, (self.nr // self.nc - 2) // 2
         a0 = self.Y[2 * nc:3 * nc][:, :nc].diagonal()
-        opening = t * self.mu * (xi[:nc] + xi[nc:2 * nc])
+        opening = np.where(self.opens, t * self.mu * (xi[:nc] + xi[nc:2 * nc]), 0.0)
         out = xi.copy()
         out[2 * nc:3 * nc] += opening / (2 * a0)
         out[(2 + m) * nc:(3 + m) * nc] += opening / (2 * a0)
