@@ -77,6 +77,16 @@ def test_a_dead_point_load_off_the_centroid_adds_its_moment():
     assert solve(s, LP_ONLY).best.alpha == pytest.approx((b * h * b / 2 + D * b) / (P * h), rel=1e-9)
 
 
+def test_a_point_load_on_a_rounded_coordinate_is_on_its_block_and_one_clearly_off_is_not():
+    """A coordinate rounded to four digits (0.02 % of the block's size above its top) is on
+    the block, as in space; 2 % above it is refused (LOAD_POINT_SLACK, 0.1 %)."""
+    from lamodel.errors import InputError
+    s = structure_from_json(block_spec(1.0, 1.0, [{"block": "b1", "at": [0.5, 1.0003], "force": [1, 0]}]))
+    assert s.point_loads[0].at == (0.5, 1.0003)
+    with pytest.raises(InputError, match="is not on block 'b1'"):
+        structure_from_json(block_spec(1.0, 1.0, [{"block": "b1", "at": [0.5, 1.03], "force": [1, 0]}]))
+
+
 @pytest.mark.parametrize("load, message", [
     ({"block": "b1", "at": [3.0, 0.5], "force": [1, 0]}, "is not on block 'b1'"),
     ({"block": "ground", "at": [0.5, 0.5], "force": [1, 0]}, "not a movable block"),

@@ -83,6 +83,7 @@ from .restraints import restraint_contacts, restraints_of
 from .jsonfields import (STRENGTH_FIELDS, blocks_of, body_head, body_support_mu, check_supports, joint_strengths,
                          json_object, load_spec, number, strengths, units, validated, warn_unknown, writes_live)
 from ..geometry.contacts import area_centroid, clean_polygons, find_contacts
+from ..search.tuning import LOAD_POINT_SLACK
 from ..structure import JOINT_DEFAULTS, Structure
 
 #: Geometric tolerance relative to the size of the model (diagonal of its bounding box):
@@ -275,7 +276,9 @@ def _point_loads(spec, where, structure, tol):
         if case and kind == "dead":
             raise InputError(f"{at}: a dead load with case '{case}'; expected dead loads without a case "
                              "(they act in every case)")
-        if not on_polygon(point, structure.polygons[block], tol + 1e-9 * structure.size()):
+        polygon = np.asarray(structure.polygons[block], float)
+        size = float(np.hypot(*(polygon.max(axis=0) - polygon.min(axis=0))))
+        if not on_polygon(point, polygon, tol + LOAD_POINT_SLACK * size):
             raise InputError(f"{at}: point {point.tolist()} is not on block '{block}'; expected a point inside "
                              "or on the boundary of the block")
         parsed.append(PointLoad(block, tuple(point), tuple(force), kind, case))

@@ -371,8 +371,8 @@ NEAR_JOINT_FACTORS = (10.0, 100.0)
 #: fraction of the structure's size above the lowest one (a course of blocks on one level,
 #: not one point; benchmarks/compas_samples.py takes the same level as supports).
 SUPPORT_LEVEL = 1e-3
-#: A 3D point load may lie this fraction of its block's size off the block (beyond the
-#: geometric tolerance): coordinates rounded to 4 digits pass; its moment moves by 0.1 %.
+#: A point load may lie this fraction of its block's size off the block (beyond the geometric
+#: tolerance), in the plane and in space: coordinates rounded to 4 digits pass; its moment moves by 0.1 %.
 LOAD_POINT_SLACK = 1e-3
 #: A Farkas mechanism of the dead load (search/unstable.py): blocks whose largest vertex
 #: motion is below this fraction of the largest one are at rest (an interior-point answer
