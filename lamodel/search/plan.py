@@ -3,18 +3,16 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 
 1. **associative** — max alpha over the statics: the upper bound, and the first statics;
 2. **first certificate** — given mechanisms (a study's other loads); where joints only crush,
-   the **dry certificate** (:mod:`.gap.dry`: the dry state within the caps, certified with
-   them); if none certifies, the gap alternation from there; if it stalls, lane
-   [single block, chain from zero cohesion, rescue, fixed-point fallback] (on the search's
-   engine, until one certifies) beside lane [dilatancy continuation];
+   the **dry certificate** (:mod:`.gap.dry`); if none certifies, the gap alternation from there;
+   if it stalls, lane [single block, chain from zero cohesion, rescue, fixed-point fallback]
+   (on the search's engine, until one certifies) beside lane [dilatancy continuation];
 3. **stability** — some statics carries the dead load alone;
 4. **continuation** — lane [continuation (rho from 10), chain from zero cohesion] beside lane
    [continuation (rho from 30), dilatancy continuation] (once-a-search strategies run once);
 5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
 6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane), successive
    cone (in space)], each raw answer certified and descended (:func:`.gap.phases.published`);
-7. **slow continuation** — rho doubled from 1 (RHO_SLOW), from the associative statics, on
-   a share of its own (:func:`.gap.phases.slow`), so that all before it runs as without it;
+7. **slow continuation** — rho doubled from 1 (RHO_SLOW), on a share of its own (:func:`.gap.phases.slow`);
 8. **MPEC** — Ferris & Tin-Loi's where the slow continuation went lower (:func:`.gap.phases.mpec`);
 9. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
@@ -73,8 +71,8 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
     """Phases 1-8 on ``engine`` (a :class:`.gap.GapSearch`, under its budget: :mod:`.budget`).
     ``stall_work``: the GA's stall rule (:mod:`.genetic`); ``workers``: the lanes' threads
     (:mod:`.workers`); ``given``: mechanisms (u, xi, scaled) of other loads (phase 2). Returns
-    (what, alpha_assoc, LP solves of the first certificate): what is 'searched', 'stopped'
-    (a stop or the time limit), 'unstable', or the associative LP's failure word."""
+    (what, alpha_assoc, LP solves of the first certificate): what is 'searched', 'stopped' (a stop
+    or the time limit), 'unstable', 'stability unknown' (its LP failed) or the associative LP's word."""
     alpha_assoc, lps_first = np.nan, 0
     try:
         kind, alpha_assoc, x0 = associative(engine)
@@ -90,8 +88,7 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         phase(progress, "first certificate")
         first_certificate(engine, x0, workers, given)
         # (stability gives the statics LP back its basis near the collapse states: the GA starts there)
-        standing = stable(engine)
-        if not standing:
+        if not (standing := stable(engine)):
             engine.record.withdraw()
             return ("unstable" if standing is False else "stability unknown"), alpha_assoc, 0
         lps_first = engine.n_lps()  # the work of the first certificate (the stopping rules' unit)
