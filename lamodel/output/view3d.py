@@ -59,13 +59,31 @@ def _mesh_trace(go, xyz, tri, colour, opacity, name):
                      lighting=dict(ambient=0.55, diffuse=0.8, specular=0.1), hoverinfo="name")
 
 
+#: The share of the page's width the 3D scene takes when the inputs' box is shown beside it.
+INPUTS_COLUMN = 0.74
+#: Characters a line of the inputs' box (longer values wrap), to fit its column.
+INPUTS_WIDTH = 40
+
+
+def inputs_text(inputs) -> str:
+    """The inputs' box as HTML lines: a title, then ``name: value`` a row, long values
+    wrapped at INPUTS_WIDTH characters (continuation lines indented)."""
+    import html
+    import textwrap
+    lines = ["<b>inputs</b>"]
+    for k, v in inputs:
+        wrapped = textwrap.wrap(f"{k}: {v}", INPUTS_WIDTH, subsequent_indent="  ") or [f"{k}:"]
+        lines += [html.escape(line).replace("  ", "&nbsp;&nbsp;", 1) for line in wrapped]
+    return "<br>".join(lines)
+
+
 def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: float | None = None,
                  title: str | None = None, normal=None, inputs=None) -> str:
     """Write the interactive view of ``s`` (and of the mechanism ``motions`` (nb, 6), with
     contact-point ``modes`` (np,) such as "open", "slide", and the points' normal forces
     ``normal`` (np,), < 0 in compression, whose caps are marked) to the HTML file ``path``.
-    ``inputs``: rows (name, value) written in a box in the lower left corner (the joints'
-    strengths, :func:`lamodel.output.materials.strength_inputs`)."""
+    ``inputs``: rows (name, value) written in a box in a column right of the scene (the
+    joints' strengths, :func:`lamodel.output.materials.strength_inputs`)."""
     import plotly.graph_objects as go
 
     u = check_motions(s, motions)
@@ -140,16 +158,17 @@ def write_view3d(s: Structure3D, path, motions=None, modes=None, amplification: 
                                     which]))
         fig.update_layout(sliders=[dict(active=STEPS.index(1.0), steps=steps, x=0.05, len=0.9,
                                         currentvalue=dict(prefix=f"amplification (1 = x {amp:.3g}): "))])
+    # the inputs' box has a column of its own on the right (over the scene it hid axis labels);
+    # the camera far enough for the x axis' labels above the slider
+    scene_x = [0.0, INPUTS_COLUMN] if inputs else [0.0, 1.0]
     fig.update_layout(title=title or s.name, scene=dict(aspectmode="data", xaxis_title="x", yaxis_title="y",
-                                                        zaxis_title="z",
-                                                        camera=dict(eye=dict(x=0.9, y=-1.6, z=0.9))),
+                                                        zaxis_title="z", domain=dict(x=scene_x, y=[0.0, 1.0]),
+                                                        camera=dict(eye=dict(x=1.1, y=-1.9, z=1.1))),
                       margin=dict(l=0, r=0, t=40, b=0), legend=dict(x=0.0, y=0.95))
     if inputs:
-        import html
-        text = "<br>".join(["<b>inputs</b>"] + [f"{html.escape(k)}: {html.escape(str(v))}" for k, v in inputs])
-        fig.add_annotation(text=text, xref="paper", yref="paper", x=0.0, y=0.0, xanchor="left", yanchor="bottom",
-                           align="left", showarrow=False, font=dict(size=11), bgcolor="rgba(255,255,255,0.8)",
-                           bordercolor="#cccccc", borderwidth=1)
+        fig.add_annotation(text=inputs_text(inputs), xref="paper", yref="paper", x=1.0, y=0.9, xanchor="right",
+                           yanchor="top", align="left", showarrow=False, font=dict(size=11),
+                           bgcolor="rgba(255,255,255,0.8)", bordercolor="#cccccc", borderwidth=1)
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.write_html(str(path), include_plotlyjs=True, full_html=True, include_mathjax=False,
                    default_height="96vh", default_width="100%",

@@ -1,6 +1,7 @@
 """The joints' strengths in and out: JSON and .dat fields, the command line's what-ifs,
 one-line errors naming the field, contacts.csv's limits and modes, the words."""
 import json
+import re
 
 import numpy as np
 import pandas as pd
@@ -289,5 +290,10 @@ def test_the_view_in_space_states_the_joints_strengths(tmp_path):
     assert command("solve", [str(path), "--cohesion", "0.5", "--out", str(tmp_path / "o"), "--view", str(view),
                              "--no-plot", "--quiet"]) == 0
     text = view.read_text().replace("\\u002f", "/").replace("\\u00b2", "²")
-    assert "compressive strength fc: 50 kN/m² on every interface (1)" in text
-    assert "--cohesion 0.5 (kN/m²) on every interface" in text
+    unwrapped = text.replace("\\u003cbr\\u003e&nbsp;&nbsp;", " ")  # long rows wrap onto indented lines
+    assert "compressive strength fc: 50 kN/m² on every interface (1)" in unwrapped
+    assert "--cohesion 0.5 (kN/m²) on every interface" in unwrapped
+    # the box sits in a column of its own, right of the scene (over it, it hid the axes' labels)
+    scene = re.search(r'"scene":\{"domain":\{"x":\[([0-9.]+),([0-9.]+)\]', text)
+    box = re.search(r'"annotations":\[\{[^]]*"x":([0-9.]+),"xanchor":"right"', text)
+    assert scene and box and float(scene.group(2)) < 0.8 and float(box.group(1)) == 1.0
