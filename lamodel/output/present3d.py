@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..search.options import Deadline
 from ..search.state import INTERRUPTED, UNSTABLE
 
 #: --method -> (solve3d's method, explore)
@@ -120,10 +121,15 @@ def _solve(s, method, options, stop, on_associative=None):
     from ..search.search3d import solve3d
     from .results3d import methods_frame3d, runs_frame
     runs, done, iterations = [], {}, {}
-    for m in (["associative", "successive-lp", "lamodel"] if method == "all" else [method]):
+    names = ["associative", "successive-lp", "lamodel"] if method == "all" else [method]
+    deadline = Deadline.after(options.time_limit)
+    for i, m in enumerate(names):
         which, explore = METHODS3D[m]
-        done[m] = r = solve3d(s, method=which, explore=explore, time_limit=options.time_limit,
-                              seed=int(options.seed), stop=stop, options=options if m == "lamodel" else None,
+        # each method an equal share of the time left (what one leaves goes to those after it),
+        # as in the plane; without a limit each is bounded by the search's counted work
+        limit = None if options.time_limit is None else max(deadline.left(), 1e-3) / (len(names) - i)
+        done[m] = r = solve3d(s, method=which, explore=explore, time_limit=limit, seed=int(options.seed), stop=stop,
+                              options=replace(options, time_limit=limit) if m == "lamodel" else None,
                               on_associative=on_associative if m == "lamodel" else None)
         for v in r.methods.values():   # each method's own answer, certified, named as --method names it
             runs.append((m, v))

@@ -109,7 +109,11 @@ def _method(structure, method, deadline) -> Result3D:
     from .state import CERTIFIED, INTERRUPTED, NO_COLLAPSE, NOT_CERTIFIED, UNSTABLE, unstable_message
     t0 = time.perf_counter()
     eng = GapSearch(structure, Budget(deadline))
+    # a method may spend what the default search may spend (its counted work bound), no more:
+    # successive cone programming ran 896 s on a tower, and the methods after it waited
+    eng.budget.bound(None, eng.budget.whole_bound())
     p, out, raw = eng.problem, Result3D(NOT_CERTIFIED, None, np.nan), np.nan
+    bounded = False
     try:
         kind, out.associative, x0 = associative(eng)
         if kind == "unstable":
@@ -129,17 +133,29 @@ def _method(structure, method, deadline) -> Result3D:
             raw = res.alpha
             if res.u is not None:
                 eng.certifier.certify(res.u, p.flows(res.u), ASSOCIATIVE)
-        standing = True if eng.record.best is None else stable(eng)
-        if not standing:
+    except Stopped:
+        if eng.budget.expired():
+            out.status = INTERRUPTED
+        else:  # its work bound: what it certified stands, once the structure is known to stand
+            bounded = True
+    if eng.record.best is not None and out.status != INTERRUPTED:
+        eng.budget.end()  # the verdict's program is not the method's work
+        try:
+            standing = stable(eng)
+        except Stopped:
+            standing, out.status = None, INTERRUPTED
+        if not standing and out.status != INTERRUPTED:
             out.status, out.message = (UNSTABLE, unstable_message()) if standing is False else (
                 NOT_CERTIFIED, "the least-alpha statics failed: whether it stands under dead load is not known")
             eng.record.withdraw()
-    except Stopped:
-        out.status = INTERRUPTED
     rec = eng.record
     out.state = rec.best_user
     if out.state is not None and out.status != INTERRUPTED:
-        out.status, out.message = CERTIFIED, "least certified collapse multiplier of the method"
+        out.status, out.message = CERTIFIED, "least certified collapse multiplier of the method" + (
+            " (it ended at its work bound)" if bounded else "")
+    elif bounded and out.status == NOT_CERTIFIED:
+        out.message = ("no collapse state certified within its work bound (the default search's); the associative "
+                       f"multiplier {out.associative:.6g} bounds alpha_c")
     elif out.status == INTERRUPTED:
         out.message = ("stopped: the best certified state so far" if out.state is not None
                        else "stopped before any collapse state was certified")

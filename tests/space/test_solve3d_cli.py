@@ -274,3 +274,37 @@ def test_live_point_loads_alone_are_the_live_load_and_summary_says_so(tmp_path):
     runs = pd.read_csv(r / "runs.csv")
     assert runs.path[0] == summary.path[0] and runs.method[0] == summary.method[0] == "lamodel"
     assert "-0," not in (r / "blocks.csv").read_text() + (r / "contacts.csv").read_text()
+
+
+def test_method_all_gives_each_method_an_equal_share_of_the_time_left(tmp_path, monkeypatch):
+    """Under --time-limit every method of --method all is given a share (in the plane too):
+    before, each was given the whole limit, so three methods could take three times it."""
+    import lamodel
+    import lamodel.search.search3d as search3d
+    given, solve3d = [], search3d.solve3d
+
+    def recording(*args, time_limit=None, **kw):
+        given.append((time_limit, None if kw.get("options") is None else kw["options"].time_limit))
+        return solve3d(*args, time_limit=time_limit, **kw)
+    monkeypatch.setattr(search3d, "solve3d", recording)
+    lamodel.analyse(write(tmp_path, "cubes.json", stack_spec()), lamodel.SolveOptions(time_limit=60.0),
+                    tmp_path / "r", method="all", picture=False)
+    limits = [limit for limit, _ in given]
+    assert len(limits) == 3 and 19.0 < limits[0] <= 20.0        # a third of the limit, then of what is left
+    assert limits[0] <= limits[1] <= 30.0 and limits[1] <= limits[2] <= 60.0  # a half, then all that is left
+    assert given[2][1] == limits[2]                               # the search's own options say the same
+
+
+def test_a_published_method_in_space_ends_at_the_searchs_work_bound(monkeypatch):
+    """Successive cone programming ran 896 s on a tower: a method alone may spend the default
+    search's counted work bound, no more; what it certified stands, and it says why it ended."""
+    from lamodel.io.json3d import structure3d_from_spec
+    from lamodel.search.gap.problem3d import ConeProblem
+    from lamodel.search.search3d import solve3d
+    s = structure3d_from_spec(stack_spec())
+    full = solve3d(s, method="successive", explore=False)
+    assert full.status == "certified" and "work bound" not in full.message
+    monkeypatch.setattr(ConeProblem, "work_bound", lambda self: 1.0)  # spent by the associative program
+    bounded = solve3d(s, method="successive", explore=False)
+    assert bounded.status == "not_certified" and bounded.state is None
+    assert "within its work bound" in bounded.message and bounded.n_cone < full.n_cone
