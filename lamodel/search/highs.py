@@ -23,6 +23,7 @@ import scipy.sparse as sp
 
 from .basis import solve as basis_solve
 from .options import Deadline, Stopped
+from .pace import Pace
 from .tuning import (ABANDONED_EXIT_WAIT, BASIS_TOLERANCE, CAP_BACKSTOP, CAP_BACKSTOP_MIN, CAP_BACKSTOP_SAMPLE,
                      HIGHS_THREADS, INLINE_COLUMNS, IPM_COLUMNS, IPM_TOLERANCE, LP_TOLERANCE, WAIT_SLICE)
 
@@ -100,6 +101,7 @@ class HighsLP:
         self.trace = None  # a print-like function to log every solve
         self.warm_iterations, self.warm_seconds = 0, 0.0  # of warm solves (see _backstop)
         self.cold_seconds = 0.0  # the longest cold solve (see _backstop)
+        self._pace = None  # the simplex of a capped cold interior point run (see :class:`.pace.Pace`)
         self.abandoned = False
 
     def _fresh(self):
@@ -147,7 +149,8 @@ class HighsLP:
         return np.array(b.col_status, np.int8), np.array(b.row_status, np.int8)
 
     def _interrupt(self, e):
-        if self.abandoned or self.deadline.expired():
+        if self.abandoned or self.deadline.expired() or (
+                self._pace is not None and self._pace.slow(e.data_out.simplex_iteration_count)):
             e.interrupt()
 
     def _usable(self):
@@ -256,6 +259,7 @@ class HighsLP:
         # HiGHS compares time_limit with the run time accumulated over all runs of this object
         h.setOptionValue("time_limit", h.getRunTime() + float(max(left, 1e-3)) if left < INF else INF)
         t = time.perf_counter()
+        paced = None
         if interior:
             # IPM + crossover at IPM_TOLERANCE, then the warm primal simplex to LP_TOLERANCE
             for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
@@ -263,15 +267,23 @@ class HighsLP:
             h.setOptionValue("solver", "ipm")
             h.setOptionValue("run_crossover", "on")
             h.setOptionValue("ipm_iteration_limit", highspy.kHighsIInf if ipm_cap is None else max(int(ipm_cap), 1))
-            self._run()
-            for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
-                h.setOptionValue(option, LP_TOLERANCE)
-            if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
-                if clean_up is not None:
-                    h.setOptionValue("simplex_iteration_limit", max(int(clean_up), 1))
-                h.setOptionValue("solver", "simplex")
-                h.setOptionValue("simplex_strategy", self.warm_strategy)
+            # where the interior point method gives up HiGHS goes on with its simplex in the same
+            # run: the clean-up's cap and pace bound that too
+            h.setOptionValue("simplex_iteration_limit", highspy.kHighsIInf if clean_up is None else max(int(clean_up), 1))
+            self._pace = None if clean_up is None else Pace(clean_up)
+            try:
                 self._run()
+                for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
+                    h.setOptionValue(option, LP_TOLERANCE)
+                if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
+                    if clean_up is not None:
+                        h.setOptionValue("simplex_iteration_limit", max(int(clean_up), 1))
+                        self._pace = Pace(clean_up)
+                    h.setOptionValue("solver", "simplex")
+                    h.setOptionValue("simplex_strategy", self.warm_strategy)
+                    self._run()
+            finally:
+                paced, self._pace = self._pace, None
         else:
             h.setOptionValue("solver", "simplex")
             h.setOptionValue("simplex_strategy", 1 if self.cold else self.warm_strategy)
@@ -281,6 +293,9 @@ class HighsLP:
         dt = time.perf_counter() - t
         self.seconds += dt
         st = h.getModelStatus()
+        if st == highspy.HighsModelStatus.kInterrupt and paced is not None and paced.cut \
+                and not self.deadline.expired():
+            st = highspy.HighsModelStatus.kIterationLimit  # its pace: capped as if by iterations
         if self.trace is not None:
             info = h.getInfo()
             self.trace(f"    LP {self.name:9s} {dt:7.2f} s  {info.simplex_iteration_count:6d} it  "
@@ -305,6 +320,8 @@ class HighsLP:
         if st == S.kIterationLimit and cap is not None:
             h.setBasis(start)  # back to the basis the capped solve started from
             return "iteration limit"
+        if st == S.kIterationLimit and clean_up is not None:
+            return "iteration limit"  # a cold solve's clean-up met its cap or its pace
         if st == S.kOptimal:
             return "optimal"
         if st == S.kInfeasible:

@@ -127,3 +127,45 @@ def test_the_work_of_a_solve_is_its_iterations_times_its_rows():
     p.stat.solve()
     its = p.stat.h.getInfo().simplex_iteration_count
     assert its > 0 and p.stat.work - before == its * p.stat.m
+
+
+def test_pace_cuts_a_simplex_at_twice_its_cap_at_its_first_speed(monkeypatch):
+    """The pace of a capped cold solve's simplex: the interior point run's calls (no
+    iteration count) are not its sample; the sample is its first CAP_BACKSTOP_SAMPLE
+    iterations, and the cut comes at CAP_BACKSTOP times the cap at that speed."""
+    from lamodel.search import pace
+    clock = [0.0]
+    monkeypatch.setattr(pace.time, "perf_counter", lambda: clock[0])
+    monkeypatch.setattr(pace, "CAP_BACKSTOP", 2.0)
+    monkeypatch.setattr(pace, "CAP_BACKSTOP_MIN", 0.5)
+    monkeypatch.setattr(pace, "CAP_BACKSTOP_SAMPLE", 100)
+    p = pace.Pace(cap=10_000)
+    for t in (0.0, 5.0, 30.0):        # the interior point run: minutes, no iteration count
+        clock[0] = t
+        assert not p.slow(-1)
+    clock[0] = 30.0
+    assert not p.slow(0)              # its simplex begins
+    clock[0] = 30.1
+    assert not p.slow(100)            # 1 ms an iteration: the cap takes 10 s, the cut 20 s
+    assert p.limit == pytest.approx(20.0)
+    clock[0] = 49.9
+    assert not p.slow(3_000) and not p.cut
+    clock[0] = 50.1                   # crawling: 3,001 of 10,000 iterations at the cut
+    assert p.slow(3_001) and p.cut
+
+
+@pytest.mark.slow
+def test_a_paced_cold_solve_ends_as_if_capped_not_stopped(monkeypatch):
+    """A capped cold interior point solve (its simplex the clean-up's) that its pace cuts
+    says it met its cap: a barrel vault's alignment LP went on for hours in HiGHS's dual
+    simplex, and the search waited on it."""
+    p = ScaledProblem(bond(10))
+    lp = p.stat
+    assert lp.n > highs.IPM_COLUMNS and lp.cold  # cold: the interior point method, then a simplex
+    monkeypatch.setattr(highs.Pace, "slow", lambda self, iterations: iterations >= 0 and setattr(self, "cut", True)
+                        is None)
+    # two interior point iterations leave HiGHS an imprecise point its simplex cleans up
+    assert lp.solve(cap=10 ** 6, deadline=p.deadline, ipm_cap=2) == "iteration limit"
+    assert not p.deadline.expired() and not lp.abandoned
+    monkeypatch.undo()
+    assert p.statics(maximize=True)[0] == "optimal"
