@@ -127,7 +127,7 @@ def _solve(s, method, options, stop, on_associative=None):
         which, explore = METHODS3D[m]
         # each method an equal share of the time left (what one leaves goes to those after it),
         # as in the plane; without a limit each is bounded by the search's counted work
-        limit = None if options.time_limit is None else max(deadline.left(), 1e-3) / (len(names) - i)
+        limit = deadline.share(len(names) - i)
         done[m] = r = solve3d(s, method=which, explore=explore, time_limit=limit, seed=int(options.seed), stop=stop,
                               options=replace(options, time_limit=limit) if m == "lamodel" else None,
                               on_associative=on_associative if m == "lamodel" else None)

@@ -98,8 +98,7 @@ def run_methods(name: str, structure: Structure, options: SolveOptions | None = 
     deadline = Deadline.after(opt.time_limit)
     out = []
     for i, m in enumerate(names):
-        share = opt if opt.time_limit is None else dataclasses.replace(
-            opt, time_limit=max(deadline.left(), 1e-3) / (len(names) - i))
+        share = opt if opt.time_limit is None else dataclasses.replace(opt, time_limit=deadline.share(len(names) - i))
         out.append(run_method(m, structure, share, seed_budget))
         if progress is not None:
             progress(out[-1])

@@ -92,6 +92,11 @@ class Deadline:
 
     remaining = left
 
+    def share(self, k: int) -> float | None:
+        """An equal share of the seconds left among ``k`` runs (None: no limit), each of
+        ``--method all``'s methods in turn (what one leaves goes to those after it)."""
+        return None if self.at is None else max(self.left(), 1e-3) / k
+
     def expired(self) -> bool:
         if self.flag or (self.stop is not None and self.stop()):
             return True
