@@ -71,3 +71,41 @@ def test_the_ga_in_space_gives_the_same_answer_for_any_number_of_workers():
     assert a.best.alpha == b.best.alpha <= 0.8 / 10.5 + 1e-9
     assert [(x, src) for _, x, src, _ in a.history] == [(x, src) for _, x, src, _ in b.history]
     assert a.runs[0].iterations == b.runs[0].iterations
+
+
+def _alternation_in_space(cold=True):
+    """The gap alternation from the associative statics of the seed's wall (33 blocks)
+    pushed out of its plane; the statics steps it made after its first certificate."""
+    from lamodel.search.gap import GapSearch
+    from lamodel.search.gap.phases import associative
+    s = extrude(read(INSTANCES / "wall33.dat"), 1.0)
+    s.live = np.column_stack([np.zeros(s.n_blocks), -s.dead[:, 2], np.zeros(s.n_blocks)])
+    e = GapSearch(s.validate())
+    p = e.problem
+    if not cold:  # as if its programs were warm LPs: the alternation goes on past a certificate
+        p.lps = {"warm": None}
+    statics, after = p.statics, []
+
+    def counted(*args, **kw):
+        if e.record.best is not None:
+            after.append(kw.get("cost_lam") is not None)
+        return statics(*args, **kw)
+
+    p.statics = counted
+    _, alpha_assoc, x0 = associative(e)
+    best, x = e.alternation.alternate(x0)
+    return best, alpha_assoc, e, sum(after)
+
+
+def test_in_space_the_alternation_ends_at_a_certified_mechanism():
+    """Past a certified mechanism a gap step lowers only the round-off gap left (a cone
+    program of seconds on large walls): in space the alternation takes one step to see
+    that alpha does not fall and ends there, converged; the same certified state."""
+    best, alpha_assoc, e, steps = _alternation_in_space()
+    assert best is not None and best.alpha <= alpha_assoc + 1e-7
+    assert max(best.residual.values()) <= 1e-7
+    assert e.alternation.converged and not e.near.stalled_below(np.array([best.alpha - 1.0]), best)
+    assert steps <= 1
+    warm_best, _, warm, warm_steps = _alternation_in_space(cold=False)
+    assert warm_steps > steps and not warm.alternation.converged
+    assert warm_best.alpha == pytest.approx(best.alpha, abs=1e-7)

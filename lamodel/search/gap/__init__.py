@@ -84,7 +84,7 @@ class GapSearch:
         self.certifier = Certifier(self.problem, self.record)
         self.descent = Descent(self.problem, self.certifier, self.record)
         self.alternation = Alternation(self.problem, self.certifier, self.descent, self.record)
-        self.near = Near(self.problem, self.certifier, self.descent)
+        self.near = Near(self.problem, self.certifier, self.descent, self.alternation)
         self.chains = Chains(self.problem, self.certifier, self.descent, self.alternation, self.near)
         self.lanes = Lanes(self, new_engine=lambda: GapSearch(structure))
         self.fitness = Fitness(self.problem, self.chains, self.record, self.lanes)

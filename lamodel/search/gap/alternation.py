@@ -12,6 +12,9 @@
   without them.
 
 Whenever the gap is small the mechanism is certified and the certified state descended.
+Where the programs start cold (in space) the alternation ends at a certified mechanism:
+the gap it has left is round-off, and a step that lowers only that is a cone program of
+seconds (:attr:`Alternation.converged` then tells that it converged, not stalled).
 With a dilatancy t > 0 (:class:`~.dilatancy.Dilatancy`) the mechanism step is that of
 the fictitious system whose sliding dilates by t mu, cohesions ``-(1 - t) mu N``; the gap
 is the same ``slack^T xi`` (:func:`~lamodel.formulation.matrices.dilatant_flows`), and
@@ -40,6 +43,9 @@ class Alternation:
 
     def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, record: Record):
         self.problem, self.certifier, self.descent, self.record = problem, certifier, descent, record
+        #: the last :meth:`alternate` ended at a certified mechanism: its statics is a collapse
+        #: state's but for a round-off gap (converged, not stalled)
+        self.converged = False
 
     def alternate(self, x, rhos=RHO_MAIN, source="gap", max_steps=ALTERNATION_MAX_STEPS, forbid_slack=False,
                   dilatancy=0.0):
@@ -50,12 +56,20 @@ class Alternation:
         """
         real = dilatancy == 0
         p = self.problem
+        # Programs that start cold (in space: a cone program of seconds) end at a certified
+        # mechanism; in the plane a step past it is a few warm pivots, and the bases it leaves
+        # are where the lanes after it start (ending there moved alpha both ways: evidence.md)
+        end_certified = real and not p.lps
         t = time.perf_counter()
         best = None
         found = []  # certified states of the near-flow steps (see _near)
         last_cert_key = None
+        certified = set()  # flow patterns certified in this run
+        at_certified = self.converged = False
         try:
             for rho in rhos:
+                if at_certified:  # a certified state's gap is round-off: a higher rho squeezes only that
+                    break
                 obj_prev = INF
                 for _ in range(max_steps):
                     alpha = float(x[-1])
@@ -84,7 +98,7 @@ class Alternation:
                         log.debug("%8.2f   hold: alpha %.7f gap %.2e slack flows %d -> %s %s", p.elapsed(), alpha,
                                   gap, int(slack_flow.sum()), st_h, xh[-1] if xh is not None else "")
                         if st_h == "optimal" and xh[-1] < alpha - IMPROVEMENT * max(1.0, alpha):
-                            x = xh  # (obj_prev kept: the rho ladder still ends on a stall)
+                            x, at_certified = xh, False  # (obj_prev kept: the rho ladder still ends on a stall)
                             continue
                     if slack_flow.any() and gap <= GAP_FORBID * max(1.0, alpha):
                         # Near convergence the least-alpha_K mechanism still flows, slightly,
@@ -109,18 +123,23 @@ class Alternation:
                             last_cert_key = key
                             st = self.certifier.certify(u, xi, source)
                             if st is not None:
+                                certified.add(key)
                                 st = self.descent.descend(st)
                                 if best is None or st.alpha < best.alpha:
                                     best = st
-                    obj = alpha + rho * gap
+                        at_certified = end_certified and key in certified
+                    # At a certified mechanism the gap left is round-off: only a lower alpha is
+                    # progress (816-block wall in space: four more program pairs, the gap 2e-8 -> 3e-11)
+                    obj = alpha if at_certified else alpha + rho * gap
                     if obj >= obj_prev - STALL * max(1.0, abs(obj_prev)):
                         break
                     obj_prev = obj
                     status, xn = p.statics(cost_lam=rho * p.gap_weights(xi, u))
                     if status != "optimal":
                         break
-                    x = xn
+                    x, at_certified = xn, False
         finally:
+            self.converged = at_certified
             self.record.phase("alternate", t, step=True)
         for st in found:
             if best is None or st.alpha < best.alpha:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..tuning import BELOW_BEST, SEARCH_ACTIVE
+from .alternation import Alternation
 from .certify import Certifier
 from .descent import Descent
 from .program import GapProgram
@@ -14,12 +15,15 @@ from .record import least
 class Near:
     """Certifies from near-active rows on a problem."""
 
-    def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent):
-        self.problem, self.certifier, self.descent = problem, certifier, descent
+    def __init__(self, problem: GapProgram, certifier: Certifier, descent: Descent, alternation: Alternation):
+        self.problem, self.certifier, self.descent, self.alternation = problem, certifier, descent, alternation
 
-    @staticmethod
-    def stalled_below(x, best) -> bool:
-        """The statics x stalled below the certified state ``best`` (or nothing is certified)."""
+    def stalled_below(self, x, best) -> bool:
+        """The statics x, where the last alternation ended, stalled below the certified state
+        ``best`` (or nothing is certified). An alternation that ended at a certified mechanism
+        did not stall: its statics' alpha is that state's less a round-off gap."""
+        if self.alternation.converged:
+            return False
         return best is None or x[-1] < best.alpha - BELOW_BEST * max(1.0, best.alpha)
 
     def certify(self, x, source, first=False):
