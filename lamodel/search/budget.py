@@ -47,6 +47,14 @@ class Charged(Deadline):
     def at(self):
         return self.budget.cap.at
 
+    def work_left(self) -> float:
+        """LP work left before the bounds that apply now (the whole search's, the first
+        certificate's while it runs): a solve is cut there, not after it (a slow lane's LP
+        of 45 s ran on past its share)."""
+        b = self.budget
+        bounds = ([b.work_bound] if b._charged else []) + ([b.first_bound] if b._first else [])
+        return min((x - b.work() for x in bounds if x is not None), default=math.inf)
+
     def __getstate__(self):
         """It travels as the plain deadline it is now (seconds left)."""
         return Deadline(self.at, self.stop).__getstate__()

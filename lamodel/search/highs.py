@@ -7,7 +7,7 @@ Every solve of the search and of the published methods goes through :class:`High
   method with crossover (IPM_COLUMNS);
 * a solve stops at its :class:`~lamodel.search.options.Deadline`, inside HiGHS (its
   interrupt callback) and, for LPs run in a worker thread, within WAIT_SLICE s even where
-  HiGHS calls no callback; optional iteration caps (counted, not timed);
+  HiGHS calls no callback, and at the work its deadline leaves; iteration caps (counted);
 * the primal and the duals recomputed exactly from the final basis (an LU solve), so that
   certified states satisfy equilibrium and compatibility to round-off.
 """
@@ -53,9 +53,8 @@ _abandoned: list[threading.Thread] = []
 @atexit.register
 def _join_abandoned():
     """An abandoned solve whose thread returns from HiGHS while the interpreter finalises
-    is killed inside pybind11's GIL re-acquisition and aborts the process ("terminate
-    called without an active exception", exit 134). Before finalising, give those solves
-    (interrupted: they stop at HiGHS's next callback) a bounded time to end."""
+    aborts the process (exit 134, in pybind11's GIL re-acquisition). Before finalising,
+    give those solves (interrupted: they stop at HiGHS's next callback) a bounded time."""
     end = time.monotonic() + ABANDONED_EXIT_WAIT
     for t in _abandoned:
         t.join(max(0.0, end - time.monotonic()))
@@ -244,12 +243,19 @@ class HighsLP:
         self.deadline.check()
         h = self.h
         interior = self.cold and (self.n > IPM_COLUMNS or self.ipm)
+        # the work bounds cut a solve where they are reached, not after it (iterations: counted)
+        by_work = self.deadline.work_left() / max(self.m if self.rows_counted is None else self.rows_counted, 1)
+        by_work = int(max(by_work, 1)) if by_work < min((c for c in (cap, ipm_cap) if c is not None), default=INF) \
+            else None
         clean_up = cap if interior else None
-        start = h.getBasis() if cap is not None and not self.cold else None
+        start = h.getBasis() if (cap is not None or by_work is not None) and not self.cold else None
         if start is None:
             cap = None
+        def limit(c):  # a cap or the work bound's, the less
+            c = min((x for x in (c, by_work) if x is not None), default=None)
+            return highspy.kHighsIInf if c is None else max(int(min(c, highspy.kHighsIInf)), 1)
         # HiGHS counts simplex_iteration_limit per run (its iteration count restarts at 0)
-        h.setOptionValue("simplex_iteration_limit", highspy.kHighsIInf if cap is None else max(int(cap), 1))
+        h.setOptionValue("simplex_iteration_limit", limit(cap))
         left = self.deadline.remaining()
         backstop = self._backstop(cap)
         if backstop < left:
@@ -266,18 +272,18 @@ class HighsLP:
                 h.setOptionValue(option, IPM_TOLERANCE)
             h.setOptionValue("solver", "ipm")
             h.setOptionValue("run_crossover", "on")
-            h.setOptionValue("ipm_iteration_limit", highspy.kHighsIInf if ipm_cap is None else max(int(ipm_cap), 1))
+            h.setOptionValue("ipm_iteration_limit", limit(ipm_cap))
             # where the interior point method gives up HiGHS goes on with its simplex in the same
             # run: the clean-up's cap and pace bound that too
-            h.setOptionValue("simplex_iteration_limit", highspy.kHighsIInf if clean_up is None else max(int(clean_up), 1))
+            h.setOptionValue("simplex_iteration_limit", limit(clean_up))
             self._pace = None if clean_up is None else Pace(clean_up)
             try:
                 self._run()
                 for option in ("primal_feasibility_tolerance", "dual_feasibility_tolerance"):
                     h.setOptionValue(option, LP_TOLERANCE)
                 if h.getModelStatus() == highspy.HighsModelStatus.kOptimal and not self.deadline.expired():
+                    h.setOptionValue("simplex_iteration_limit", limit(clean_up))
                     if clean_up is not None:
-                        h.setOptionValue("simplex_iteration_limit", max(int(clean_up), 1))
                         self._pace = Pace(clean_up)
                     h.setOptionValue("solver", "simplex")
                     h.setOptionValue("simplex_strategy", self.warm_strategy)
@@ -317,6 +323,10 @@ class HighsLP:
             if st != S.kTimeLimit or backstop is None or self.deadline.expired():
                 raise Stopped()
             st = S.kIterationLimit  # the backstop: capped as if by iterations
+        if st == S.kIterationLimit and by_work is not None and not (paced is not None and paced.cut):
+            if start is not None:
+                h.setBasis(start)
+            raise Stopped()  # the work bound reached inside the solve, as it is between two
         if st == S.kIterationLimit and cap is not None:
             h.setBasis(start)  # back to the basis the capped solve started from
             return "iteration limit"
@@ -350,9 +360,8 @@ class HighsLP:
         s). Only a pathological solve meets it (HiGHS's dual simplex on near-singular
         bases: 241 iterations in 25 s where 6,000 take 4 s), so the answer stays counted in
         iterations in every ordinary case. Before the sample: CAP_BACKSTOP times the
-        longest cold solve of this LP (a warm solve slower than that is pathological), at
-        least CAP_BACKSTOP_MIN * CAP_BACKSTOP s: a fixed 4 s cut the first certifications
-        of a 2,040-block wall (cold solve 16 s) at a fifth of their cap."""
+        longest cold solve of this LP, at least CAP_BACKSTOP_MIN * CAP_BACKSTOP s
+        (docs/method/evidence.md)."""
         if cap is None:
             return INF
         if self.warm_iterations < CAP_BACKSTOP_SAMPLE:

@@ -107,6 +107,11 @@ class Deadline:
         if self.expired():
             raise Stopped()
 
+    def work_left(self) -> float:
+        """LP work (iterations times rows) a solve may still spend before a work bound
+        stops it: none here (a budget's deadline has them, :class:`~.budget.Charged`)."""
+        return math.inf
+
     def extended(self, seconds: float) -> "Deadline":
         """The same deadline moved later by ``seconds`` (e.g. to finish what was found);
         a stop asked for still stops it."""

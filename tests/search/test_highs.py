@@ -169,3 +169,46 @@ def test_a_paced_cold_solve_ends_as_if_capped_not_stopped(monkeypatch):
     assert not p.deadline.expired() and not lp.abandoned
     monkeypatch.undo()
     assert p.statics(maximize=True)[0] == "optimal"
+
+
+class _WorkLeft(Deadline):
+    """A deadline whose work bound leaves ``left`` units of LP work."""
+
+    def __init__(self, left):
+        super().__init__()
+        self.left_work = left
+
+    def work_left(self):
+        return self.left_work
+
+
+def test_a_work_bound_cuts_a_solve_where_it_is_reached_back_at_its_basis():
+    """A solve is cut where the work bound is reached, not after it: with the work left for
+    one iteration the solve stops there (Stopped, as the bound stops a solve between two),
+    counts its iteration and leaves the basis it started from; with room, the same solve."""
+    p = ScaledProblem(read(INSTANCES / "wall55.dat"))
+    p.statics(maximize=True)  # max alpha: min alpha from here takes many iterations
+    before, work = p.stat.portable_basis(), p.stat.work
+    p.deadline = _WorkLeft(1.5 * p.stat.m)
+    with pytest.raises(Stopped):
+        p.statics()
+    assert 0 < p.stat.work - work <= 2 * p.stat.m
+    assert all(np.array_equal(a, b) for a, b in zip(before, p.stat.portable_basis()))
+    p.deadline = _WorkLeft(1e12)
+    assert p.statics()[0] == "optimal"
+
+
+def test_the_work_left_is_the_bound_that_applies_now():
+    """A budget's deadline tells the solves the work left: the whole search's bound, and
+    the first certificate's while it runs; none once the search ended."""
+    from lamodel.search.budget import Budget
+    b = Budget.for_solve()
+    b.count(ScaledProblem(read(INSTANCES / "wall33.dat")))
+    assert b.deadline.work_left() == np.inf
+    b.bound(None, 1000.0)
+    assert b.deadline.work_left() == 1000.0 - b.work()
+    b._first, b.first_bound = True, 10.0
+    assert b.deadline.work_left() == 10.0 - b.work()
+    b._first = False
+    b.end()
+    assert b.deadline.work_left() == np.inf
