@@ -12,7 +12,7 @@ runs.csv's ``path``; how each works: docs/method/search.md):
 5. **GA** — pymoo's GA over the cohesions around the best state (:mod:`.genetic`);
 6. **published methods** — lane [successive LP (Gilbert et al. 2006; in the plane), successive
    cone (in space)], each raw answer certified and descended (:func:`.gap.phases.published`);
-7. **slow continuation** — rho doubled from 1 (RHO_SLOW), on a share of its own (:func:`.gap.phases.slow`);
+7. **slow continuation** — rho doubled from 1 (RHO_SLOW), up to SLOW_BLOCKS blocks (:func:`.gap.phases.slow`);
 8. **MPEC** — Ferris & Tin-Loi's where the slow continuation went lower (:func:`.gap.phases.mpec`);
 9. **Ipopt polish** — from the best distinct certified states (the driver, in the plane).
 
@@ -39,7 +39,7 @@ from .options import Stopped
 from .published.mpec import MPEC
 from .published.successive_cone import SuccessiveCone
 from .published.successive_lp import SuccessiveLP
-from .tuning import RHO_CONTS
+from .tuning import RHO_CONTS, SLOW_BLOCKS
 
 log = logging.getLogger(__name__)
 
@@ -103,7 +103,7 @@ def run(engine, opt, progress, client=None, on_associative=None, stall_work=None
         if x0 is not None and np.isfinite(alpha_assoc) and PUBLISHED.strategies:
             phase(progress, "published methods")
             phases.published(engine, x0, PUBLISHED, workers)
-        if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies:
+        if x0 is not None and np.isfinite(alpha_assoc) and SLOW.strategies and engine.problem.nb <= SLOW_BLOCKS:
             phase(progress, "slow continuation")
             best = engine.record.best  # before the slow continuation
             if below(phases.slow(engine, x0, SLOW, workers), best) and MPEC_LANE.strategies:

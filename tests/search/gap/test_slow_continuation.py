@@ -59,3 +59,17 @@ def test_the_slow_continuation_never_raises_alpha(make, monkeypatch):
     s = make()
     off, on = solved(s, False, monkeypatch), solved(s, True, monkeypatch)
     assert on.best.alpha <= off.best.alpha + 1e-12
+
+
+@pytest.mark.parametrize("bound, runs", [(33, True), (32, False)])
+def test_the_slow_continuation_runs_on_structures_of_at_most_slow_blocks(bound, runs, monkeypatch):
+    # it gave the best on walls of 80 to 135 blocks and on none of 160 to 2,040, where it
+    # took up to a tenth of the run (docs/method/evidence.md, "The slow continuation")
+    s = read_dat(INSTANCES / "wall33.dat")
+    called = []
+    slow = plan.phases.slow
+    monkeypatch.setattr(plan, "SLOW_BLOCKS", bound)
+    monkeypatch.setattr(plan.phases, "slow", lambda *a, **k: called.append(1) or slow(*a, **k))
+    out = solve(s, OPTIONS)
+    assert bool(called) is runs
+    assert abs(out.best.alpha - 0.638982) < 1e-6  # Table 1's wall: its state comes before the phase
