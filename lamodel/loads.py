@@ -111,6 +111,26 @@ def one_live_load(structure, what: str) -> None:
                          "lamodel.studies.rolling_study(structure) for all (lamodel solve FILE solves them all)")
 
 
+def the_live_load(structure: Structure, what: str) -> Structure:
+    """``structure`` itself when it carries one live load pattern; with one load case, or a
+    rolling load at one position (a bridge at the position chosen with ``--positions``),
+    the structure under it; else InputError (``what`` takes one live load: name one)."""
+    cases, rolling = getattr(structure, "cases", None), getattr(structure, "rolling", None)
+    if cases and len(cases) == 1:
+        return case_structure(structure, next(iter(cases)))
+    if rolling is not None and not cases:
+        positions = rolling_positions(structure)
+        if len(positions) == 1:
+            return rolling_structure(structure, positions[0])
+        raise InputError(f"{what}: the rolling load of '{structure.name}' has {len(positions)} positions, and "
+                         "a method other than lamodel takes one live load; expected one position (--positions X)")
+    if cases:
+        raise InputError(f"{what}: '{structure.name}' has {len(cases)} load cases, and a method other than lamodel "
+                         "takes one live load; expected a file with one load case (a bridge: lamodel bridge "
+                         "--positions X)")
+    return structure
+
+
 def case_structure(structure: Structure, name: str) -> Structure:
     """The structure under load case ``name`` (its live loads only; dead loads as ever)."""
     if name not in structure.cases:

@@ -211,7 +211,7 @@ def _with_strengths(structure, asked, source):
 def _analyse(structure, source, options, out, method, seed_ga, picture, report, animate, moving, echo, command,
              painter, prove=None, strengths=None):
     from ..io.files import safe_folder_name
-    from ..loads import with_rolling
+    from ..loads import the_live_load, with_rolling
     from ..search.driver import solve
     from .extras import explain_unstable, words_of, write_extras, write_study_files
     from .folder import ResultFolder, check_output_file, foreign_files, in_folder, picture_place
@@ -223,9 +223,8 @@ def _analyse(structure, source, options, out, method, seed_ga, picture, report, 
         from ..search.executor import check_scheduler
         check_scheduler(options.scheduler)  # fail at once, not after the first certificate
     _check_resolution(structure)
-    if method != "lamodel" and (structure.cases or structure.rolling is not None):
-        raise InputError(f"method {method}: a method other than lamodel takes one live load; expected no load "
-                         "cases or rolling load")
+    if method != "lamodel":  # one load case, or one position of a rolling load (a bridge's): under it
+        structure = the_live_load(structure, f"method {method}")
     # every output place is checked before the solve
     out = Path(out) if out else Path("results") / safe_folder_name(structure.name)
     extras = {"picture": picture_place(None if picture is True else picture, out) if picture else None,

@@ -193,3 +193,45 @@ def test_method_all_gives_each_method_a_share_of_the_time_limit():
         assert r.notes and r.status  # it reports, certified or not
         spent += r.seconds
     assert results[-1].certified  # lamodel's search, in what the others left
+
+
+def one_block(**load):
+    """One 1 x 1 block on the ground (weight 1) pushed at its top by a horizontal unit force: it
+    overturns at alpha = 1/2 (sliding would need mu = 0.6)."""
+    return {"name": "pushed", "mu": 0.6, **load, "blocks": [
+        {"id": "ground", "vertices": rect(-2, -1, 2, 0), "support": True},
+        {"id": "b1", "vertices": rect(-0.5, 0, 0.5, 1)}]}
+
+
+TOP = {"block": "b1", "at": [0, 1], "force": [1, 0]}
+
+
+def test_the_methods_take_one_load_case_or_one_position_of_a_rolling_load():
+    # a bridge's load positions are its load cases: --method all on the one chosen
+    # (lamodel bridge --positions X) solves the bridge under it
+    from lamodel.errors import InputError
+    from lamodel.loads import the_live_load
+    rolling = {"force": [1, 0], "positions": [0]}
+    for spec in (one_block(loads=[{**TOP, "case": "top"}]), one_block(rolling_load=rolling)):
+        s = the_live_load(structure_from_json(spec), "method all")
+        assert not s.cases and s.rolling is None
+        assert run_method("associative", s, FAST).alpha_certified == pytest.approx(0.5, abs=1e-9)
+    with pytest.raises(InputError, match="2 load cases"):
+        the_live_load(structure_from_json(one_block(loads=[{**TOP, "case": "a"}, {**TOP, "case": "b"}])), "method all")
+    with pytest.raises(InputError, match=r"2 positions.*--positions"):
+        the_live_load(structure_from_json(one_block(rolling_load={"force": [1, 0], "positions": [-0.2, 0.2]})), "m")
+
+
+@pytest.mark.slow
+def test_method_all_solves_a_file_of_one_load_case(tmp_path):
+    path = tmp_path / "pushed.json"
+    path.write_text(__import__("json").dumps(one_block(loads=[{**TOP, "case": "top"}])))
+    out = tmp_path / "out"
+    res = lamodel_cli("solve", path, "--method", "all", "--out", out, "--starts", 1, "--workers", 1,
+                      "--pop-size", 2, "--generations", 1, "--no-plot", "--quiet")
+    assert res.returncode == 0, res.stderr
+    table = pd.read_csv(out / "methods.csv")
+    assert table.certified.all() and table.alpha_certified.min() == pytest.approx(0.5, abs=1e-9)
+    path.write_text(__import__("json").dumps(one_block(loads=[{**TOP, "case": "a"}, {**TOP, "case": "b"}])))
+    res = lamodel_cli("solve", path, "--method", "all", "--out", tmp_path / "two", "--no-plot")
+    assert res.returncode != 0 and len(res.stderr.strip().splitlines()) == 1 and "2 load cases" in res.stderr
