@@ -289,8 +289,8 @@ PUBLISHED_SHARE = 4.0
 #: the LP work so far (at most times the whole-search bound), beyond that bound: its ladder
 #: ends by itself in 40-80 LP solves (docs/method/evidence.md, "The slow continuation").
 SLOW_SHARE = 0.1
-#: ... on structures of at most this many blocks: it gave the best on walls of 80 to 135 blocks and
-#: on none of 160 to 2,040, where it took up to a tenth of the run (docs/method/evidence.md).
+#: ... on structures of at most this many blocks: it lowered alpha on walls of 80 to 135 blocks, on
+#: none of 160 to 320 and by 5e-7 on 1 of 23 of 500-520, and took up to a tenth of a large wall's run.
 SLOW_BLOCKS = 300
 #: The MPEC (plan.MPEC, last) runs on structures of at most this many blocks, each of its
 #: NLPs at most MPEC_LANE_ITERATIONS Ipopt iterations: an iteration costs about as many
