@@ -3,8 +3,10 @@
 
     python benchmarks/methods.py                      # all four instances, default budgets
     python benchmarks/methods.py --instances wall33 --csv results/methods_bench.csv
+    python benchmarks/methods.py --fc 20 --cohesion 0.01    # every joint with these strengths
 
-Every method of ``lamodel.search.methods`` (associative LP, successive LP of Gilbert et al.
+With ``--fc``, ``--ft``, ``--cohesion`` every joint has those strengths (the methods
+take them as lamodel does: lamodel.search.lp). Every method of ``lamodel.search.methods`` (associative LP, successive LP of Gilbert et al.
 2006, the MPEC relaxation of Ferris & Tin-Loi 2001, the seed's GA + Ipopt, lamodel's
 certified search) runs in this process on the same structure, with its default options
 (seed 0). For each: its raw alpha, the certified alpha of that raw answer,
@@ -51,6 +53,8 @@ def main(argv=None):
     p.add_argument("--instances", default="wall33,wall55,openings,arch",
                    help="comma-separated: wall33, wall55, openings, arch (default: all four)")
     p.add_argument("--csv", help="also write the table to this CSV file")
+    for name in ("fc", "ft", "cohesion"):
+        p.add_argument(f"--{name}", type=float, help=f"every joint's {name} (lamodel.variants.with_strengths)")
     args = p.parse_args(argv)
     names = [n.strip() for n in args.instances.split(",") if n.strip()]
     bad = [n for n in names if n not in ("wall33", "wall55", "openings", "arch")]
@@ -62,9 +66,12 @@ def main(argv=None):
     from lamodel.output.methods import methods_frame
     from lamodel.search.methods import run_methods
     from lamodel.search.options import SolveOptions
+    from lamodel.variants import with_strengths
 
     tables = []
+    strengths = {k: getattr(args, k) for k in ("fc", "ft", "cohesion") if getattr(args, k) is not None}
     for name, s in instances(names):
+        s = with_strengths(s, **strengths) if strengths else s
         print(f"{name}: {s.n_blocks} blocks, {s.n_contacts} contacts", flush=True)
         found = run_methods("all", s, SolveOptions(), progress=lambda r: print(
             f"  {r.method:14s} raw {r.alpha_raw:.6f}  certified {r.alpha_certified:.6f}  {r.seconds:6.1f} s",

@@ -13,6 +13,14 @@
   that flows only on chosen rows: the kinematics half of the certification.
 
 Variables of the statics LPs are (N, V, M, alpha) in the order of eq. (3).
+
+With the joints' strengths (:func:`lamodel.formulation.matrices.strength_rows`) the yield
+rows are ``Y s <= b``: slides with the joint's cohesion, the N-M facets of crushing and
+tension (``nr`` rows, a block of nc a kind); the fictitious system's cohesion is the
+joint's own plus -mu N, its facets those of the real joint (associative), and every row
+of a mechanism dissipates ``xi b``. A row of far strength (``b`` taken as +inf,
+:func:`~lamodel.formulation.matrices.far_bounds`) is left out of the statics and never
+flows. Without strengths b = 0 and nr = 4 nc: eq. (4).
 """
 from __future__ import annotations
 
@@ -56,27 +64,31 @@ class LimitLPs:
         self.formulation = F = formulation or Formulation.of(s)
         self.A, self.f0, self.fbar, self.Y, self.G = F.A, F.f0, F.fbar, F.Y, F.G
         self.nvar = 3 * nc + 1  # N, V, M, alpha
+        self.nr = nr = self.Y.shape[0]  # yield rows: 4 nc (eq. 4), more with the joints' strengths
+        #: the rows' right-hand sides: what a flow dissipates (b), and as the LPs take them (+inf: far)
+        self.b = np.zeros(nr) if F.b is None else np.asarray(F.b, dtype=float)
+        self.b_lp = np.zeros(nr) if F.b_far is None else np.asarray(F.b_far, dtype=float)
         E = sp.hstack([self.A, sp.csr_matrix(self.fbar.reshape(-1, 1))])
-        Yrows = sp.hstack([self.Y, sp.csr_matrix((4 * nc, 1))])
+        Yrows = sp.hstack([self.Y, sp.csr_matrix((nr, 1))])
         free = np.full(3 * nc, -INF), np.full(3 * nc, INF)
         # alpha >= 0 (collapse under the given live load, not under its reverse)
         col_lo, col_hi = np.append(free[0], 0.0), np.append(free[1], INF)
         cost = np.zeros(self.nvar)
         cost[-1] = -1.0  # max alpha
-        # Real statics: equilibrium (= -f0) and all four yield rows (<= 0).
-        self._statics = methods_lp(cost, sp.vstack([E, Yrows]), np.concatenate([-self.f0, np.full(4 * nc, -INF)]),
-                                   np.concatenate([-self.f0, np.zeros(4 * nc)]), col_lo, col_hi)
-        # Fictitious cohesive statics: equilibrium and the hinge rows; |V| <= c as column bounds.
+        # Real statics: equilibrium (= -f0) and all the yield rows (<= b).
+        self._statics = methods_lp(cost, sp.vstack([E, Yrows]), np.concatenate([-self.f0, np.full(nr, -INF)]),
+                                   np.concatenate([-self.f0, self.b_lp]), col_lo, col_hi)
+        # Fictitious cohesive statics: equilibrium and the hinge rows (facets); |V| <= c as column bounds.
         self._cohesive = methods_lp(cost, sp.vstack([E, Yrows[2 * nc:]]),
-                                    np.concatenate([-self.f0, np.full(2 * nc, -INF)]),
-                                    np.concatenate([-self.f0, np.zeros(2 * nc)]), col_lo, col_hi)
+                                    np.concatenate([-self.f0, np.full(nr - 2 * nc, -INF)]),
+                                    np.concatenate([-self.f0, self.b_lp[2 * nc:]]), col_lo, col_hi)
         # Mechanisms: columns (u, xi); compatibility -A^T u - G^T xi = 0 and fbar^T u = 1.
         K = sp.vstack([sp.hstack([-self.A.T, -self.G.T]),
-                       sp.hstack([sp.csr_matrix(self.fbar.reshape(1, -1)), sp.csr_matrix((1, 4 * nc))])])
-        self._mech = methods_lp(np.zeros(3 * nb + 4 * nc), K, np.append(np.zeros(3 * nc), 1.0),
+                       sp.hstack([sp.csr_matrix(self.fbar.reshape(1, -1)), sp.csr_matrix((1, nr))])])
+        self._mech = methods_lp(np.zeros(3 * nb + nr), K, np.append(np.zeros(3 * nc), 1.0),
                                 np.append(np.zeros(3 * nc), 1.0),
-                                np.concatenate([np.full(3 * nb, -INF), np.zeros(4 * nc)]),
-                                np.concatenate([np.full(3 * nb, INF), np.full(4 * nc, INF)]))
+                                np.concatenate([np.full(3 * nb, -INF), np.zeros(nr)]),
+                                np.concatenate([np.full(3 * nb, INF), self._flows_hi()]))
         self.n_solves = 0
         self.work = 0  # LP work of the solves (HighsLP.work: iterations x rows), counted as a search counts it
 
@@ -86,42 +98,49 @@ class LimitLPs:
         return x[:nc], x[nc:2 * nc], x[2 * nc:3 * nc], x[3 * nc]
 
     def slack(self, x):
-        """-(Y s): the four yield slacks per contact (>= 0 when admissible), stacked by row."""
+        """b - Y s: the yield slacks (>= 0 when admissible), stacked by row."""
         return self.formulation.slack(x)
+
+    def _flows_hi(self, hi=INF):
+        """The flows' upper bounds: ``hi``, and 0 on the rows left out (far strengths)."""
+        return np.where(np.isfinite(self.b_lp), hi, 0.0)
+
+    def _rows(self):
+        return np.arange(3 * self.nb, 3 * self.nb + self.nr)
 
     # -------------------------------------------------------------------------- LPs
     def associative(self) -> LPResult:
         """max alpha over S: the associative multiplier, an upper bound on alpha_c."""
-        self._statics.set_row_bounds(np.full(4 * self.nc, -INF), np.zeros(4 * self.nc),
-                                     np.arange(3 * self.nb, 3 * self.nb + 4 * self.nc))
+        self._statics.set_row_bounds(np.full(self.nr, -INF), self.b_lp, self._rows())
         cost = np.zeros(self.nvar)
         cost[-1] = -1.0
         self._statics.set_cost(cost)
         return self.run(self._statics)
 
     def statics(self, active, minimize: bool = True) -> LPResult:
-        """min (max) alpha over S with the yield rows `active` (indices into 4 nc) at equality."""
-        active = np.zeros(4 * self.nc, dtype=bool) if active is None else np.asarray(active)
+        """min (max) alpha over S with the yield rows `active` (indices into nr) at equality."""
+        active = np.zeros(self.nr, dtype=bool) if active is None else np.asarray(active)
         if active.dtype != bool:
-            mask = np.zeros(4 * self.nc, dtype=bool)
+            mask = np.zeros(self.nr, dtype=bool)
             mask[active] = True
             active = mask
-        lo = np.where(active, 0.0, -INF)
-        self._statics.set_row_bounds(lo, np.zeros(4 * self.nc), np.arange(3 * self.nb, 3 * self.nb + 4 * self.nc))
+        lo = np.where(active & np.isfinite(self.b_lp), self.b_lp, -INF)
+        self._statics.set_row_bounds(lo, self.b_lp, self._rows())
         cost = np.zeros(self.nvar)
         cost[-1] = 1.0 if minimize else -1.0
         self._statics.set_cost(cost)
         return self.run(self._statics)
 
     def cohesive(self, c) -> tuple[LPResult, np.ndarray | None, np.ndarray | None]:
-        """alpha_as(c): max alpha with |V| <= c; returns (result, u, xi) with (u, xi) its mechanism.
+        """alpha_as(c): max alpha with |V| <= c (plus the joints' own cohesion c0 A, when
+        they have it); returns (result, u, xi) with (u, xi) its mechanism.
 
         The mechanism comes from the duals (HiGHS: col_dual = cost - A^T row_dual):
         u = -(equilibrium duals), hinge xi = -(hinge row duals), sliding xi from the reduced
         costs of V at its bounds.
         """
         nc, nb = self.nc, self.nb
-        c = np.maximum(np.asarray(c, dtype=float), 0.0)
+        c = np.maximum(np.asarray(c, dtype=float), 0.0) + self.b_lp[:nc]
         self._cohesive.set_bounds(-c, c, np.arange(nc, 2 * nc))
         res = self.run(self._cohesive)
         if not res.ok:
@@ -133,18 +152,18 @@ class LimitLPs:
         return res, u, xi
 
     def mechanism(self, allowed, N_hat, xi_max=None) -> tuple[LPResult, np.ndarray | None, np.ndarray | None]:
-        """A mechanism flowing only on `allowed` rows (bool, 4 nc), fbar^T u = 1.
+        """A mechanism flowing only on `allowed` rows (bool, nr), fbar^T u = 1.
 
         Among them, the one of least kinematic multiplier alpha_K(u, xi; N_hat) =
-        -f0^T u - mu N_hat (xi_slide+ + xi_slide-): the mechanism that the statics N_hat
-        would do least work against.
+        -f0^T u - mu N_hat (xi_slide+ + xi_slide-) + xi^T b: the mechanism that the statics
+        N_hat would do least work against.
         """
-        nb, nc = self.nb, self.nc
+        nb, nc, nr = self.nb, self.nc, self.nr
         allowed = np.asarray(allowed, dtype=bool)
-        hi = np.where(allowed, INF if xi_max is None else xi_max, 0.0)
-        self._mech.set_bounds(np.zeros(4 * nc), hi, np.arange(3 * nb, 3 * nb + 4 * nc))
+        hi = np.where(allowed, self._flows_hi(INF if xi_max is None else xi_max), 0.0)
+        self._mech.set_bounds(np.zeros(nr), hi, np.arange(3 * nb, 3 * nb + nr))
         mu_n = self.structure.mu * np.asarray(N_hat, dtype=float)
-        cost = np.concatenate([-self.f0, -mu_n, -mu_n, np.zeros(2 * nc)])
+        cost = np.concatenate([-self.f0, -mu_n, -mu_n, np.zeros(nr - 2 * nc)]) + np.append(np.zeros(3 * nb), self.b)
         self._mech.set_cost(cost)
         res = self.run(self._mech)
         if not res.ok:

@@ -65,9 +65,6 @@ def run_method(name: str, structure: Structure, options: SolveOptions | None = N
     opt = options or SolveOptions()
     structure.validate()
     opt.validate()
-    if name != "lamodel" and getattr(structure, "has_materials", False):
-        raise InputError(f"method '{name}' knows dry joints only; the joints' strengths (fc, ft, cohesion) "
-                         "are solved by --method lamodel")
     t0 = time.perf_counter()
     deadline = Deadline.after(opt.time_limit)
     # every method works on the canonical order (the search puts the structure in it itself)

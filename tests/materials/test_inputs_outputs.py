@@ -141,12 +141,6 @@ def test_cli_bad_strengths_one_line(block_file, tmp_path, capsys, argv, words):
     assert not (tmp_path / "o").exists()
 
 
-def test_other_methods_refuse_strengths(block_file, tmp_path, capsys):
-    assert command("solve", [str(block_file), "--fc", "10", "--method", "associative", "--out",
-                             str(tmp_path / "o"), "--no-plot"]) == 2
-    assert "lamodel" in capsys.readouterr().err
-
-
 # ================================================================================ modes
 def test_modes_of_a_crushed_joint():
     """An end that closes (overlap) crushes, with or without slip; dry mechanisms never do."""

@@ -59,7 +59,7 @@ def associative_lp(lps):
     """(status, message, LP result): the associative LP, or why no method can start."""
     at_rest = lps.statics(None, minimize=True)
     if at_rest.status == "infeasible" or (at_rest.ok and at_rest.alpha > STABLE_ALPHA):
-        return UNSTABLE, unstable_message(at_rest.alpha if at_rest.ok else None), None
+        return UNSTABLE, unstable_message(at_rest.alpha if at_rest.ok else None) + crushing_message(lps), None
     assoc = lps.associative()
     if assoc.ok:
         return "ok", "", assoc
@@ -67,6 +67,15 @@ def associative_lp(lps):
         return NO_COLLAPSE, ("the associative LP is unbounded: no dilatant collapse for this live load "
                                "(use --method lamodel for a frictional one)"), None
     return FAILED, f"the associative LP failed ({assoc.status})", None
+
+
+def crushing_message(lps) -> str:
+    """Why a structure with the joints' strengths cannot stand, when they are the reason
+    (the search's words, :meth:`lamodel.search.gap.strengths.StrengthProblem.crushing_message`); '' otherwise."""
+    if not getattr(lps.structure, "has_materials", False):
+        return ""
+    from ..gap.strengths import StrengthProblem
+    return StrengthProblem(lps.structure, lps.deadline).crushing_message()
 
 
 def start_state(lps, assoc, source="associative"):

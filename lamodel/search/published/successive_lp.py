@@ -68,9 +68,10 @@ class Iteration:
 
 
 def gilbert_lp(lps, a):
-    """LP of one iteration: max alpha, equilibrium, the hinge rows of eq. 4, and at each
-    contact the modified sliding rows ``+-V - a mu N <= cap`` (N <= 0 is compression), i.e.
-    ``|V| <= cap - a mu |N|``; ``cap`` is set per iteration (row bounds)."""
+    """LP of one iteration: max alpha, equilibrium, the hinge rows of eq. 4 (with the joints'
+    strengths: their N-M facets), and at each contact the modified sliding rows
+    ``+-V - a mu N <= cap`` (N <= 0 is compression), i.e. ``|V| <= cap - a mu |N|``; ``cap``
+    is set per iteration (row bounds)."""
     import scipy.sparse as sp
     from ..highs import INF
     from ..lp import methods_lp
@@ -79,11 +80,11 @@ def gilbert_lp(lps, a):
     I, Z, z = sp.identity(nc, format="csr"), sp.csr_matrix((nc, nc)), sp.csr_matrix((nc, 1))
     aMu = sp.diags(-a * np.asarray(lps.structure.mu, dtype=float) * np.ones(nc))
     slide = sp.bmat([[aMu, I, Z, z], [aMu, -I, Z, z]])
-    hinge = sp.hstack([lps.Y[2 * nc:], sp.csr_matrix((2 * nc, 1))])
+    hinge = sp.hstack([lps.Y[2 * nc:], sp.csr_matrix((lps.nr - 2 * nc, 1))])
     cost = np.zeros(lps.nvar)
     cost[-1] = -1.0
-    return methods_lp(cost, sp.vstack([E, slide, hinge]),
-                      np.concatenate([-lps.f0, np.full(4 * nc, -INF)]), np.concatenate([-lps.f0, np.zeros(4 * nc)]),
+    return methods_lp(cost, sp.vstack([E, slide, hinge]), np.concatenate([-lps.f0, np.full(lps.nr, -INF)]),
+                      np.concatenate([-lps.f0, np.zeros(2 * nc), lps.b_lp[2 * nc:]]),
                       np.append(np.full(3 * nc, -INF), 0.0), np.full(3 * nc + 1, INF))
 
 
@@ -107,7 +108,7 @@ def iterate(lps, N_assoc, stop=None) -> Iteration:
             lp, lp_a = gilbert_lp(lps, a), a
             if basis is not None:
                 lp.restart(basis)
-        cap = c0 - (1.0 + a) * mu * np.minimum(N_hat, 0.0)
+        cap = c0 + lps.b_lp[:nc] - (1.0 + a) * mu * np.minimum(N_hat, 0.0)  # and the joints' own cohesion
         lp.set_row_bounds(np.full(2 * nc, -INF), np.concatenate([cap, cap]), rows)
         res = lps.run(lp)
         out.status = res.status
@@ -157,7 +158,9 @@ class SuccessiveLP:
         p, ran = engine.problem, engine.lanes.ran
         s = getattr(p, "s", None)
         if self.once in ran or s is None or s.has_materials or start.x_assoc is None:
-            return ran.get(self.once, (None,))[0]  # in space, or joints with strengths: not this method's
+            # in space: not this method's; with the joints' strengths it gave no alpha the search
+            # did not (docs/method/evidence.md, "The successive LP's lane with the joints' strengths")
+            return ran.get(self.once, (None,))[0]
         t = time.perf_counter()
         lps = LimitLPs(s)
         lps.deadline = p.deadline
