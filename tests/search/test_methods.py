@@ -140,6 +140,22 @@ def test_method_all_on_wall33_writes_methods_csv(tmp_path):
     assert pd.read_csv(out / "summary.csv")["method"][0] in METHODS
 
 
+def test_the_best_method_is_the_least_alpha_and_round_off_is_a_tie():
+    """best_of: the least certified alpha; within round-off of it (IMPROVEMENT) lamodel's
+    search, else the first listed; none certified: the first."""
+    from types import SimpleNamespace as Answer
+    from lamodel.search.methods import best_of
+
+    def answers(**alphas):
+        return [Answer(method=m.replace("_", "-"), certified=a is not None, alpha_certified=np.nan if a is None else a)
+                for m, a in alphas.items()]
+    tie = answers(associative=0.3, successive_lp=0.2 - 2e-16, seed=0.2 - 1e-16, lamodel=0.2)
+    assert best_of(tie).method == "lamodel"
+    assert best_of(answers(successive_lp=0.2 - 1e-6, seed=0.2, lamodel=0.2)).method == "successive-lp"
+    assert best_of(answers(associative=None, successive_lp=0.2 - 2e-16, seed=0.2)).method == "successive-lp"
+    assert best_of(answers(associative=None, successive_lp=None, lamodel=None)).method == "associative"
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("ga", [[], ["--pop-size", "2"], ["--generations", "1"]], ids=["default", "pop", "gens"])
 def test_the_seed_method_takes_its_own_ga_budget_where_none_is_given(tmp_path, ga):
