@@ -91,7 +91,8 @@ def _solve_arguments(p):
       "interface to an ipopt executable")
     a("--plot", help="mechanism picture (.png, .svg, .pdf, ...; default <out>/mechanism.png)")
     a("--no-plot", action="store_true", help="draw no picture")
-    a("--quiet", action="store_true", help="print only the one-line result (warnings and errors still go to stderr)")
+    a("--quiet", action="store_true", help="print only the one-line result (after the methods table with --method "
+      "all; warnings and errors still go to stderr)")
     a("-v", "--verbose", action="count", default=0, help="log the search on stderr: its phases, lanes and what each "
       "certified; twice (-vv): every step and LP solve too")
     a("--report", metavar="FILE.html", help="write one self-contained HTML report")
