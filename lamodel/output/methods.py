@@ -53,6 +53,12 @@ def method_results(result) -> Results:
     return outcome_results(result.outcome(), {"method": result.method})
 
 
+def methods_took(frame: pd.DataFrame) -> str:
+    """How long ``--method all`` took, for the one-line result: every method's seconds (the
+    kept state's method alone took its row's)."""
+    return f"{frame['seconds'].sum():.1f} s for {len(frame)} methods"
+
+
 def methods_text(frame: pd.DataFrame) -> str:
     """The table for a terminal, the notes of each method below it."""
     fmt = {c: (lambda v: "" if pd.isna(v) else f"{v:.6f}") for c in ("alpha_raw", "alpha_certified")}

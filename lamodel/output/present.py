@@ -67,8 +67,10 @@ class Analysis:
                     f"{r.alpha_associative:.6f}; {key} {label} governs) in {self.study['seconds']:.1f} s for "
                     f"{len(table)} {kind}{stopped}")
         if self.certified:
+            from .methods import methods_took
+            took = f"{self.outcome.wall_time_s:.1f} s" if self.methods is None else methods_took(self.methods)
             return (f"{name}: alpha = {max(r.alpha, 0.0):.6f} (certified collapse state; associative bound "
-                    f"{r.alpha_associative:.6f}) in {self.outcome.wall_time_s:.1f} s")
+                    f"{r.alpha_associative:.6f}) in {took}")
         return f"{name}: no certified collapse multiplier: {self.outcome.message}"
 
     def text(self, quiet: bool = False) -> str:

@@ -59,9 +59,10 @@ class Analysis3D:
         head = f"{self.structure.name}: "
         if not self.certified:
             return head + f"no certified collapse multiplier: {r.message}"
-        took = self.summary["wall_time_s"]
+        from .methods import methods_took
+        took = f"{self.summary['wall_time_s']:.1f} s" if self.methods is None else methods_took(self.methods)
         return head + f"alpha = {max(r.alpha, 0.0):.6f} (certified collapse state; associative bound " \
-                      f"{r.associative:.6f}) in {took:.1f} s"
+                      f"{r.associative:.6f}) in {took}"
 
     def text(self, quiet: bool = False) -> str:
         """The terminal's account of the solve: the methods table (``--method all``), then

@@ -138,6 +138,8 @@ def test_method_all_on_wall33_writes_methods_csv(tmp_path):
     # the folder holds the best method's certified state, which an external check accepts
     assert check_folder(out) == pytest.approx(table.alpha_certified.min(), abs=1e-9)
     assert pd.read_csv(out / "summary.csv")["method"][0] in METHODS
+    # the one-line result: the whole comparison's time, not the kept method's alone
+    assert res.stdout.strip().splitlines()[-1].endswith(f"in {table.seconds.sum():.1f} s for 5 methods")
 
 
 def test_the_best_method_is_the_least_alpha_and_round_off_is_a_tie():

@@ -113,6 +113,8 @@ def test_method_all_puts_the_methods_side_by_side(tmp_path):
     assert pd.read_csv(tmp_path / "r" / "summary.csv").method[0] in set(certified["method"])
     assert list(pd.read_csv(tmp_path / "r" / "runs.csv")["method"]) == list(methods["method"])
     assert "Methods on 'stack'" in a.text() and violations(tmp_path / "r") == []
+    # the one-line result: the whole comparison's time, not the kept method's alone
+    assert a.line().endswith(f"in {methods.seconds.sum():.1f} s for 3 methods")
 
 
 def test_a_mesh_takes_the_input_options_and_records_the_defaults(tmp_path):
