@@ -11,6 +11,7 @@ load across the full width at the test's position; the predicted collapse load i
 certified alpha times the file's axle force: with the passive restraint and crushing,
 without the restraint, and without crushing; the mechanism is the first one's. LPs only (--starts 0).
 """
+import argparse
 import dataclasses
 import sys
 import time
@@ -73,4 +74,5 @@ def main():
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()  # --help; no options
     main()

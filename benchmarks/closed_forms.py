@@ -8,6 +8,7 @@ Each case is a small JSON geometry on a rigid ground; the closed form is written
 LPs only (--starts 0). A check, not a test: the tests assert the same values
 (tests/search/test_methods.py, tests/test_engineer.py); this prints them side by side.
 """
+import argparse
 import sys
 import time
 from pathlib import Path
@@ -64,4 +65,5 @@ def main():
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()  # --help; no options
     main()

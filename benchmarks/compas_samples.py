@@ -9,7 +9,7 @@ Files without ``is_support`` flags get as supports the blocks whose lowest point
 assembly's lowest level (or, when that is every block, the lowest block).
 """
 import json
-import sys
+import argparse
 from pathlib import Path
 
 import warnings
@@ -77,4 +77,6 @@ def main(folder):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else ".")
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("folder", nargs="?", default=".", help="the folder of the COMPAS samples (default: here)")
+    main(ap.parse_args().folder)

@@ -2,7 +2,7 @@
 
     PYTHONPATH=. python benchmarks/contacts3d.py [max_blocks]
 """
-import sys
+import argparse
 import time
 
 from lamodel.geometry.generators3d import box_building
@@ -23,4 +23,6 @@ def main(limit=10_000):
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 10_000)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("max_blocks", type=int, nargs="?", default=10_000, help="the largest building (default 10,000)")
+    main(ap.parse_args().max_blocks)

@@ -13,6 +13,7 @@ parabola's and at least (1 - eps) of it (lamodel.formulation.joints). The parabo
 Each program is built once (its matrices; the polygon's facets) and solved cold REPEATS
 times, the least solve time kept. A measurement, not a test.
 """
+import argparse
 import sys
 import time
 from dataclasses import replace
@@ -117,4 +118,5 @@ def main():
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()  # --help; no options
     main()

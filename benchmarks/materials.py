@@ -18,6 +18,7 @@ certified the state reported (``dry certificate``: :mod:`lamodel.search.gap.dry`
 ``first s``, the seconds to the first certified state. A measurement,
 not a test: the tests assert the values (tests/materials/).
 """
+import argparse
 import dataclasses
 import sys
 import time
@@ -68,7 +69,12 @@ def variants(s, strengths, family=False):
 
 
 def main(argv=None):
-    only = set(sys.argv[1:] if argv is None else argv)
+    names = [name for name, _ in CASES + FAMILY]
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("case", nargs="*", help=f"only these, of {', '.join(names)} (default: all but the family's)")
+    only = set(ap.parse_args(argv).case)
+    if only - set(names):  # (argparse's choices refuse an empty list)
+        ap.error(f"unknown case {', '.join(sorted(only - set(names)))}; expected some of {', '.join(names)}")
     family = {name for name, _ in FAMILY}
     cases = [(structure(name), fcs, name in family) for name, fcs in CASES + FAMILY
              if (not only and name not in family) or name in only]
