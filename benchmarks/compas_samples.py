@@ -8,8 +8,8 @@ them: their number, and how many of those block pairs lamodel finds, and their t
 Files without ``is_support`` flags get as supports the blocks whose lowest point is at the
 assembly's lowest level (or, when that is every block, the lowest block).
 """
-import json
 import argparse
+import json
 from pathlib import Path
 
 import warnings
